@@ -1,0 +1,30 @@
+#pragma once
+// File-system helpers. Every output file is written to a temporary sibling and renamed,
+// so a crash never leaves a half-written file and an earlier file stays intact until the
+// new one is complete.
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace mpmvs {
+
+// Calls write(stream) on "path.tmp.<pid>" and renames it to path. Creates no directories.
+// On any failure the temporary is removed and Error is thrown naming path.
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write);
+
+// Whole file as bytes; Error naming the path when missing or unreadable.
+std::vector<uint8_t> ReadFileBytes(const std::string& path);
+
+bool FileExists(const std::string& path);
+bool DirectoryExists(const std::string& path);
+// Creates the directory and its parents (no error if it exists).
+void CreateDirectories(const std::string& path);
+// a + "/" + b, without doubling slashes.
+std::string JoinPaths(const std::string& a, const std::string& b);
+// Directory part of a path ("" if none).
+std::string ParentPath(const std::string& path);
+
+}  // namespace mpmvs
