@@ -1,0 +1,449 @@
+#include "colmap_ext/mp_patch_match_stereo.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "colmap_ext/dense_workspace.h"
+#include "colmap_ext/error.h"
+#include "colmap_ext/file_util.h"
+#include "colmap_ext/logging.h"
+#include "colmap_ext/lru_cache.h"
+#include "colmap_ext/mat_io.h"
+#include "colmap_ext/planar_prior.h"
+#include "colmap_ext/stage_plan.h"
+#include "colmap_ext/map_pictures.h"
+
+namespace mpmvs {
+namespace {
+
+using kernels::Camera;
+
+// Channels of a stage result file in stereo/mpmvs: plane (4), cost, photometric cost,
+// geometric error.
+constexpr int kStateChannels = 7;
+
+struct Problem {
+  int ref = -1;
+  std::vector<int> src;
+  float depth_min = 0, depth_max = 0;
+};
+
+Camera ToCamera(const DenseView& view) {
+  Camera c;
+  c.width = view.width;
+  c.height = view.height;
+  c.fx = static_cast<float>(view.K[0]);
+  c.fy = static_cast<float>(view.K[4]);
+  c.cx = static_cast<float>(view.K[2]);
+  c.cy = static_cast<float>(view.K[5]);
+  for (int i = 0; i < 9; ++i) c.R[i] = static_cast<float>(view.R[i]);
+  for (int i = 0; i < 3; ++i) c.t[i] = static_cast<float>(view.T[i]);
+  return c;
+}
+
+FloatMap ResultToState(const kernels::PatchMatchResult& r) {
+  FloatMap state(r.width, r.height, kStateChannels);
+  const size_t n = static_cast<size_t>(r.width) * r.height;
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 4; ++c) state.data[c * n + i] = r.plane[4 * i + c];
+    state.data[4 * n + i] = r.cost[i];
+    state.data[5 * n + i] = r.photo_cost[i];
+    state.data[6 * n + i] = r.geo_error[i];
+  }
+  return state;
+}
+
+void StateToResult(const FloatMap& state, kernels::PatchMatchResult* r) {
+  const size_t n = static_cast<size_t>(state.width) * state.height;
+  r->width = state.width;
+  r->height = state.height;
+  r->plane.resize(4 * n);
+  for (size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 4; ++c) r->plane[4 * i + c] = state.data[c * n + i];
+  }
+  r->cost.assign(state.data.begin() + 4 * n, state.data.begin() + 5 * n);
+  r->photo_cost.assign(state.data.begin() + 5 * n, state.data.begin() + 6 * n);
+  r->geo_error.assign(state.data.begin() + 6 * n, state.data.begin() + 7 * n);
+  r->view_mask.assign(n, 0u);
+}
+
+// Depth of each pixel's plane (0 where invalid), for source depth maps and the prior.
+std::vector<float> StateDepth(const FloatMap& state, const Camera& camera, float depth_min,
+                              float depth_max) {
+  const int W = state.width, H = state.height;
+  const size_t n = static_cast<size_t>(W) * H;
+  std::vector<float> depth(n, 0.f);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      if (!(state.data[5 * n + i] < kernels::kInvalidCost)) continue;
+      const kernels::Plane plane{{state.data[i], state.data[n + i], state.data[2 * n + i]},
+                                 state.data[3 * n + i]};
+      const float z = kernels::PlaneDepth(plane, kernels::PixelRay(camera, float(u), float(v)));
+      if (z >= depth_min && z <= depth_max) depth[i] = z;
+    }
+  }
+  return depth;
+}
+
+class Backend {
+ public:
+  Backend(const PatchMatchStereoOptions& options) {
+    std::string why;
+    int index = -1;
+    std::stringstream ss(options.gpu_index);
+    std::string first;
+    std::getline(ss, first, ',');
+    index = std::stoi(first);
+    const int device = index < 0 ? 0 : index;
+    if (kernels::CudaDeviceAvailable(device, &why)) {
+      use_cuda_ = true;
+      device_ = device;
+      name_ = "CUDA device " + std::to_string(device);
+    } else {
+      const int threads = options.num_threads > 0 ? options.num_threads
+                                                  : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      name_ = "CPU (" + std::to_string(threads) + " threads)";
+      LogInfo("No usable CUDA device (" + why + "): using the CPU backend, " +
+              std::to_string(threads) + " threads");
+    }
+  }
+  void Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
+           kernels::PatchMatchResult* result) const {
+    if (use_cuda_) {
+      kernels::RunPatchMatchCuda(problem, schedule, device_, result);
+    } else {
+      kernels::RunPatchMatchCpu(problem, schedule, result);
+    }
+  }
+  const std::string& Name() const { return name_; }
+
+ private:
+  bool use_cuda_ = false;
+  int device_ = 0;
+  std::string name_;
+};
+
+class Controller {
+ public:
+  explicit Controller(const MpPatchMatchRun& run) : run_(run) {}
+
+  MpPatchMatchSummary Run();
+
+ private:
+  std::string StatePath(int view, const std::string& stage) const {
+    return JoinPaths(workspace_.IntermediateDir(), workspace_.views[view].name + "." + stage + ".state.bin");
+  }
+  bool FinalOutputsExist(int view, const std::string& type) const {
+    return FileExists(workspace_.DepthMapPath(view, type)) && FileExists(workspace_.NormalMapPath(view, type)) &&
+           (!run_.colmap_options.write_consistency_graph ||
+            FileExists(workspace_.ConsistencyGraphPath(view, type)));
+  }
+  void LoadProblems();
+  void RunStage(int stage_index, MpPatchMatchSummary* summary);
+  void WriteFinal(const Problem& problem, const kernels::PatchMatchProblem& pm_problem,
+                  const kernels::PatchMatchResult& result, const std::string& type);
+
+  MpPatchMatchRun run_;
+  DenseWorkspace workspace_;
+  PipelinePlan plan_;
+  std::vector<Problem> problems_;
+  std::map<int, float> view_depth_min_, view_depth_max_;
+  std::unique_ptr<Backend> backend_;
+  std::unique_ptr<LruCache<int, GrayImage>> images_;
+  std::unique_ptr<LruCache<std::pair<int, int>, std::vector<float>>> depths_;
+};
+
+void Controller::LoadProblems() {
+  const std::string cfg = run_.config_path.empty()
+                              ? JoinPaths(workspace_.path, "stereo/patch-match.cfg")
+                              : run_.config_path;
+  if (!FileExists(cfg)) ThrowFileError(cfg, "patch-match configuration not found");
+  const std::vector<StereoProblem> specs =
+      ReadPatchMatchConfig(cfg, workspace_, run_.colmap_options.min_triangulation_angle);
+  for (const StereoProblem& spec : specs) {
+    Problem p;
+    p.ref = spec.ref;
+    p.src = spec.src;
+    if (static_cast<int>(p.src.size()) > run_.options.max_source_images) {
+      p.src.resize(run_.options.max_source_images);
+    }
+    const DenseView& view = workspace_.views[p.ref];
+    if (run_.colmap_options.depth_min > 0) {
+      p.depth_min = static_cast<float>(run_.colmap_options.depth_min);
+      p.depth_max = static_cast<float>(run_.colmap_options.depth_max);
+    } else {
+      p.depth_min = static_cast<float>(view.depth_min);
+      p.depth_max = static_cast<float>(view.depth_max);
+    }
+    problems_.push_back(p);
+  }
+}
+
+MpPatchMatchSummary Controller::Run() {
+  const auto start = std::chrono::steady_clock::now();
+  MpPatchMatchSummary summary;
+  std::string error;
+  if (!run_.colmap_options.Check(&error) || !run_.options.Check(&error)) throw Error(error);
+  if (run_.workspace_format != "COLMAP") {
+    throw Error("--workspace_format " + run_.workspace_format +
+                " is not supported by mp-mvs; use a COLMAP workspace (image_undistorter --output_type COLMAP)");
+  }
+  LogHeading("mp_patch_match_stereo: loading workspace " + run_.workspace_path);
+  workspace_ = LoadDenseWorkspace(run_.workspace_path, run_.colmap_options.max_image_size);
+  LoadProblems();
+  plan_ = MakePipelinePlan(run_.colmap_options, run_.options);
+  if (!run_.colmap_options.geom_consistency && run_.options.PriorMode() == PlanarPriorMode::kGeometric) {
+    LogWarning("--MPMVS.planar_prior geometric needs geometric consistency; with "
+               "--PatchMatchStereo.geom_consistency 0 only the photometric stage runs");
+  }
+
+  // References that cannot run: warn and count, like COLMAP.
+  std::vector<Problem> runnable;
+  for (const Problem& p : problems_) {
+    const std::string& name = workspace_.views[p.ref].name;
+    if (p.src.empty()) {
+      LogWarning("skipping " + name + ": no source images (patch-match.cfg / shared sparse points)");
+      ++summary.num_skipped_no_sources;
+    } else if (!(p.depth_min > 0 && p.depth_max > p.depth_min)) {
+      LogWarning("skipping " + name +
+                 ": it sees no sparse points, so its depth range is unknown; set "
+                 "--PatchMatchStereo.depth_min and --PatchMatchStereo.depth_max");
+      ++summary.num_skipped_no_depth_range;
+    } else {
+      runnable.push_back(p);
+      view_depth_min_[p.ref] = p.depth_min;
+      view_depth_max_[p.ref] = p.depth_max;
+    }
+  }
+  problems_ = runnable;
+  summary.num_references = static_cast<int>(problems_.size()) + summary.num_skipped_no_sources +
+                           summary.num_skipped_no_depth_range;
+
+  const std::string final_type = plan_.geometric_output >= 0 ? "geometric" : "photometric";
+  bool all_done = !run_.options.overwrite;
+  for (const Problem& p : problems_) {
+    if (!FinalOutputsExist(p.ref, final_type) || !FinalOutputsExist(p.ref, "photometric")) all_done = false;
+  }
+  if (all_done) {
+    summary.num_already_done = static_cast<int>(problems_.size());
+    LogInfo("All " + std::to_string(problems_.size()) + " depth maps exist already (" + final_type +
+            "); nothing to do. Use --MPMVS.overwrite 1 to recompute.");
+    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  }
+  for (const Problem& p : problems_) {
+    if (FinalOutputsExist(p.ref, final_type) && !run_.options.overwrite) ++summary.num_already_done;
+  }
+
+  backend_ = std::make_unique<Backend>(run_.colmap_options);
+  summary.backend = backend_->Name();
+  const size_t cache_bytes = static_cast<size_t>(run_.colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
+  images_ = std::make_unique<LruCache<int, GrayImage>>(
+      cache_bytes / 2, [this](const int& view) { return workspace_.ReadGray(view); },
+      [](const GrayImage& img) { return img.data.size() * sizeof(float); });
+  depths_ = std::make_unique<LruCache<std::pair<int, int>, std::vector<float>>>(
+      cache_bytes / 2,
+      [this](const std::pair<int, int>& key) {
+        const FloatMap state = ReadFloatMap(StatePath(key.second, plan_.stages[key.first].name), kStateChannels);
+        return StateDepth(state, ToCamera(workspace_.views[key.second]), view_depth_min_[key.second],
+                          view_depth_max_[key.second]);
+      },
+      [](const std::vector<float>& d) { return d.size() * sizeof(float); });
+
+  CreateDirectories(workspace_.IntermediateDir());
+  for (const Problem& p : problems_) {
+    const std::string& name = workspace_.views[p.ref].name;
+    for (const std::string& dir : {workspace_.DepthMapPath(p.ref, "x"), workspace_.NormalMapPath(p.ref, "x"),
+                                   StatePath(p.ref, "x")}) {
+      CreateDirectories(ParentPath(dir));
+    }
+    if (run_.options.write_pictures) {
+      CreateDirectories(ParentPath(JoinPaths(workspace_.IntermediateDir(), "pictures/" + name)));
+    }
+  }
+  LogInfo("Backend: " + backend_->Name() + "; " + std::to_string(problems_.size()) +
+          " reference images; stages: " + [&] {
+            std::string s;
+            for (const StagePlan& st : plan_.stages) s += (s.empty() ? "" : " -> ") + st.name;
+            return s;
+          }());
+
+  for (size_t s = 0; s < plan_.stages.size(); ++s) RunStage(static_cast<int>(s), &summary);
+
+  summary.num_written = static_cast<int>(problems_.size()) - summary.num_already_done;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchProblem& pm_problem,
+                            const kernels::PatchMatchResult& result, const std::string& type) {
+  std::vector<float> depth, normal;
+  kernels::ExtractDepthNormalMaps(pm_problem, result, &depth, &normal);
+  const int W = result.width, H = result.height;
+  FloatMap depth_map(W, H, 1), normal_map(W, H, 3);
+  depth_map.data = std::move(depth);
+  normal_map.data = std::move(normal);
+  // Normal first: fusion aborts on a depth map without its normal map.
+  WriteFloatMap(workspace_.NormalMapPath(problem.ref, type), normal_map);
+  WriteFloatMap(workspace_.DepthMapPath(problem.ref, type), depth_map);
+  if (run_.colmap_options.write_consistency_graph) {
+    ConsistencyGraph graph;
+    graph.width = W;
+    graph.height = H;
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        const size_t i = static_cast<size_t>(v) * W + u;
+        const uint32_t mask = result.view_mask.empty() ? 0u : result.view_mask[i];
+        if (!(depth_map.data[i] > 0.f) || mask == 0u) continue;
+        graph.data.push_back(u);
+        graph.data.push_back(v);
+        const size_t count_pos = graph.data.size();
+        graph.data.push_back(0);
+        for (size_t s = 0; s < problem.src.size(); ++s) {
+          if (mask >> s & 1u) {
+            graph.data.push_back(problem.src[s]);
+            ++graph.data[count_pos];
+          }
+        }
+      }
+    }
+    WriteConsistencyGraph(workspace_.ConsistencyGraphPath(problem.ref, type), graph);
+  }
+  if (run_.options.write_pictures) {
+    const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + workspace_.views[problem.ref].name + "." + type);
+    WriteDepthPicture(base + ".depth.png", depth_map, problem.depth_min, problem.depth_max);
+    WriteNormalPicture(base + ".normal.png", normal_map);
+  }
+}
+
+void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
+  const StagePlan& stage = plan_.stages[stage_index];
+  StageSummary stage_summary;
+  stage_summary.name = stage.name;
+  const auto start = std::chrono::steady_clock::now();
+  LogHeading("Stage " + std::to_string(stage_index + 1) + "/" + std::to_string(plan_.stages.size()) + ": " +
+             stage.name + " (" + StageKindName(stage.kind) + ", " +
+             std::to_string(stage.schedule.iterations.size()) + " iterations)");
+  ProgressReporter progress("stage " + stage.name, static_cast<int>(problems_.size()));
+  const bool writes_photometric = stage_index == plan_.photometric_output;
+  const bool writes_geometric = stage_index == plan_.geometric_output;
+  const std::string final_type = plan_.geometric_output >= 0 ? "geometric" : "photometric";
+
+  for (const Problem& p : problems_) {
+    const DenseView& view = workspace_.views[p.ref];
+    const std::string state_path = StatePath(p.ref, stage.name);
+    const bool final_done = FinalOutputsExist(p.ref, final_type) && !run_.options.overwrite;
+    if (final_done) {
+      ++stage_summary.images_resumed;
+      progress.Step(view.name + " (final maps exist, skipped)");
+      continue;
+    }
+    kernels::PatchMatchProblem problem;
+    problem.image_id = static_cast<uint32_t>(p.ref);
+    problem.ref_camera = ToCamera(view);
+    problem.depth_min = p.depth_min;
+    problem.depth_max = p.depth_max;
+    kernels::PatchMatchResult result;
+
+    const bool have_state = FileExists(state_path) && !run_.options.overwrite;
+    if (have_state) {
+      StateToResult(ReadFloatMap(state_path, kStateChannels), &result);
+      ++stage_summary.images_resumed;
+    } else {
+      auto ref_image = images_->Get(p.ref);
+      problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
+      std::vector<std::shared_ptr<const GrayImage>> keep_images;
+      std::vector<std::shared_ptr<const std::vector<float>>> keep_depths;
+      for (int src : p.src) {
+        kernels::PatchMatchSource source;
+        source.camera = ToCamera(workspace_.views[src]);
+        if (stage.schedule.geometric) {
+          const std::string src_state = StatePath(src, plan_.stages[stage.input].name);
+          if (!view_depth_min_.count(src) || !FileExists(src_state)) {
+            LogWarning(view.name + ": source " + workspace_.views[src].name +
+                       " has no " + plan_.stages[stage.input].name + " result; left out of this stage");
+            continue;
+          }
+          keep_depths.push_back(depths_->Get({stage.input, src}));
+          source.depth_map = keep_depths.back()->data();
+        }
+        auto img = images_->Get(src);
+        keep_images.push_back(img);
+        source.image = kernels::ImageView{img->data.data(), img->width, img->height};
+        problem.sources.push_back(source);
+      }
+      if (problem.sources.empty()) {
+        LogWarning(view.name + ": no usable source views in stage " + stage.name + "; skipped");
+        progress.Step(view.name + " (skipped)");
+        continue;
+      }
+      FloatMap input_state;
+      kernels::PatchMatchResult input;
+      PlanarPriorModel prior;
+      if (stage.input >= 0) {
+        input_state = ReadFloatMap(StatePath(p.ref, plan_.stages[stage.input].name), kStateChannels);
+        if (input_state.width != view.width || input_state.height != view.height) {
+          ThrowFileError(StatePath(p.ref, plan_.stages[stage.input].name),
+                         "size differs from the image; delete stereo/mpmvs to start over");
+        }
+        StateToResult(input_state, &input);
+        problem.init_plane = input.plane.data();
+        problem.init_cost = input.cost.data();
+      }
+      if (stage.kind == StageKind::kPlanarPrior) {
+        PlanarPriorOptions po;
+        const MpMvsOptions& o = run_.options;
+        po.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
+                                                       : PlanarPriorOptions::Selection::kPhotometric;
+        po.cell_size = o.prior_cell_size;
+        po.points_per_cell = o.prior_points_per_cell;
+        po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
+        po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
+        po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
+        po.max_depth_jump = static_cast<float>(o.prior_max_depth_jump);
+        po.max_edge_fraction = static_cast<float>(o.prior_max_edge);
+        const std::vector<float> depth = StateDepth(input_state, problem.ref_camera, p.depth_min, p.depth_max);
+        prior = BuildPlanarPrior(problem.ref_camera, depth, input.photo_cost, input.geo_error, p.depth_min,
+                                 p.depth_max, po);
+        problem.prior_plane = prior.plane.data();
+        problem.prior_label = prior.label.data();
+        size_t labelled = 0;
+        for (uint8_t l : prior.label) labelled += l;
+        LogInfo(view.name + ": planar prior with " + std::to_string(prior.vertices.size()) + " vertices, " +
+                std::to_string(prior.triangles.size() / 3) + " triangles (" +
+                std::to_string(prior.num_rejected_triangles) + " rejected), " +
+                std::to_string(100 * labelled / prior.label.size()) + "% of pixels covered");
+      }
+      backend_->Run(problem, stage.schedule, &result);
+      WriteFloatMap(state_path, ResultToState(result));
+      ++stage_summary.images_computed;
+      stage_summary.ncc_evaluations += result.init_ncc_evaluations;
+      for (const auto& it : result.iterations) stage_summary.ncc_evaluations += it.ncc_evaluations;
+      stage_summary.pixel_iterations +=
+          static_cast<uint64_t>(result.width) * result.height * result.iterations.size();
+      if (stage_summary.iterations.empty()) stage_summary.iterations = result.iterations;
+    }
+    if (writes_photometric && (run_.options.overwrite || !FinalOutputsExist(p.ref, "photometric"))) {
+      WriteFinal(p, problem, result, "photometric");
+    }
+    if (writes_geometric) WriteFinal(p, problem, result, "geometric");
+    progress.Step(view.name + (have_state ? " (resumed from stereo/mpmvs)" : ""));
+  }
+  stage_summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary->stages.push_back(stage_summary);
+}
+
+}  // namespace
+
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run) {
+  Controller controller(run);
+  return controller.Run();
+}
+
+}  // namespace mpmvs

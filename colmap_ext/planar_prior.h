@@ -1,0 +1,52 @@
+#pragma once
+// Planar prior model (ACMP, as modified by MP-MVS; ALGORITHM.md §8, §0): reliable pixels
+// per grid cell, 2-D Delaunay triangulation (CGAL), one plane per triangle, rasterised into
+// a per-pixel prior plane and label.
+#include <cstdint>
+#include <vector>
+
+#include "kernels/camera.h"
+
+namespace mpmvs {
+
+struct PlanarPriorOptions {
+  enum class Selection { kPhotometric, kGeometric };
+  Selection selection = Selection::kGeometric;
+  int cell_size = 5;
+  int points_per_cell = 3;           // geometric selection; photometric takes 1 (ACMP)
+  float max_photo_cost = 0.2f;       // geometric: m_p <
+  float max_geom_error = 1.0f;       // geometric: m_g < (px)
+  float max_cost_photometric = 0.1f;  // photometric: cost <
+  float max_depth_jump = 0.1f;       // reject triangles spanning a depth edge
+  float max_edge_fraction = 0.05f;   // reject triangles with an edge > this x image diagonal
+};
+
+struct PlanarPriorVertex {
+  int u = 0, v = 0;
+  float depth = 0;
+};
+
+struct PlanarPriorModel {
+  std::vector<PlanarPriorVertex> vertices;
+  std::vector<int> triangles;  // 3 vertex indices per kept triangle
+  int num_rejected_triangles = 0;
+  std::vector<float> plane;    // 4 per pixel (nx, ny, nz, d), reference camera frame
+  std::vector<uint8_t> label;  // 1 where a triangle covers the pixel
+};
+
+// depth (W*H, 0 = none), photo_cost and geo_error (W*H) describe the reference image's
+// current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
+// label.
+PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
+                                  const std::vector<float>& photo_cost,
+                                  const std::vector<float>& geo_error, float depth_min,
+                                  float depth_max, const PlanarPriorOptions& options);
+
+// Selected vertices only (exposed for tests).
+std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
+                                                   const std::vector<float>& depth,
+                                                   const std::vector<float>& photo_cost,
+                                                   const std::vector<float>& geo_error,
+                                                   const PlanarPriorOptions& options);
+
+}  // namespace mpmvs

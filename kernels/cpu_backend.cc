@@ -1,0 +1,113 @@
+// CPU backend: runs the shared per-pixel functions of patch_match_pixel.h over all cores.
+// Pixels of one checkerboard colour are independent, so rows are handed out dynamically;
+// results do not depend on the thread count (counter-based random numbers).
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+int ResolveThreads(int requested) {
+  if (requested > 0) return requested;
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw > 0 ? static_cast<int>(hw) : 1;
+}
+
+// Calls fn(row, &counter) for every row, on num_threads threads; returns the summed counter.
+template <typename Fn>
+uint64_t ParallelRows(int num_rows, int num_threads, const Fn& fn) {
+  std::atomic<int> next{0};
+  std::vector<uint64_t> counters(num_threads, 0);
+  auto worker = [&](int t) {
+    uint32_t local = 0;
+    uint64_t total = 0;
+    for (int row = next.fetch_add(1); row < num_rows; row = next.fetch_add(1)) {
+      local = 0;
+      fn(row, &local);
+      total += local;
+    }
+    counters[t] = total;
+  };
+  if (num_threads == 1) {
+    worker(0);
+  } else {
+    std::vector<std::thread> threads;
+    for (int t = 0; t < num_threads; ++t) threads.emplace_back(worker, t);
+    for (auto& th : threads) th.join();
+  }
+  uint64_t sum = 0;
+  for (uint64_t c : counters) sum += c;
+  return sum;
+}
+
+}  // namespace
+
+void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+                      PatchMatchResult* result, const ProgressCallback& progress) {
+  schedule.Check();
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  PassParams params = MakePassParams(problem, schedule, sources.data());
+  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
+  const size_t n = static_cast<size_t>(W) * H;
+  result->width = W;
+  result->height = H;
+  result->plane.assign(4 * n, 0.f);
+  result->cost.assign(n, kInvalidCost);
+  result->photo_cost.assign(n, kInvalidCost);
+  result->geo_error.assign(n, 0.f);
+  result->view_mask.assign(n, 0u);
+  result->iterations.clear();
+  PixelState state;
+  state.plane = result->plane.data();
+  state.cost = result->cost.data();
+  state.photo_cost = result->photo_cost.data();
+  state.geo_error = result->geo_error.data();
+  state.view_mask = result->view_mask.data();
+  const int threads = ResolveThreads(schedule.num_threads);
+
+  // Random streams: stage id in the high bits, pass number in the low bits.
+  const uint32_t stage_base = schedule.stage_id << 16;
+  params.window = WindowForScale(schedule.iterations.front().window_scale);
+  params.rng_iteration = stage_base;
+  result->init_ncc_evaluations = ParallelRows(H, threads, [&](int v, uint32_t* count) {
+    for (int u = 0; u < W; ++u) {
+      InitializePixel(params, state, problem.init_plane, problem.init_cost, u, v, count);
+    }
+  });
+
+  const int total = static_cast<int>(schedule.iterations.size());
+  for (int it = 0; it < total; ++it) {
+    const IterationSpec& spec = schedule.iterations[it];
+    const auto start = std::chrono::steady_clock::now();
+    params.window = WindowForScale(spec.window_scale);
+    params.view_selection.good_threshold =
+        GoodMatchThreshold(spec.tau_index, schedule.tau0, schedule.tau_alpha);
+    uint64_t evaluations = 0;
+    for (int color = 0; color < 2; ++color) {
+      params.color = color;
+      params.rng_iteration = stage_base + static_cast<uint32_t>(1 + 2 * it + color);
+      evaluations += ParallelRows(H, threads, [&](int v, uint32_t* count) {
+        for (int u = (v + color) & 1; u < W; u += 2) UpdatePixel(params, state, u, v, count);
+      });
+    }
+    IterationStats stats;
+    stats.window_scale = spec.window_scale;
+    stats.window_side = WindowSide(params.window);
+    stats.pattern = schedule.pattern;
+    stats.tau = params.view_selection.good_threshold;
+    stats.ncc_evaluations = evaluations;
+    stats.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result->iterations.push_back(stats);
+    if (progress) progress(it + 1, total);
+  }
+}
+
+}  // namespace kernels
+}  // namespace mpmvs

@@ -1,0 +1,145 @@
+#pragma once
+// Bilateral-weighted NCC over a sparse 6x6 window warped by a plane homography
+// (ALGORITHM.md §3, §4). The reference side (weights, mean, variance) depends only on the
+// pixel and the window scale, so it is computed once per pixel update (RefPatch) and reused
+// for every hypothesis and source view.
+#include <math.h>
+
+#include "kernels/camera.h"
+
+namespace mpmvs {
+namespace kernels {
+
+// A grey image in memory (values 0..255), row-major. Same struct on host and device.
+struct ImageView {
+  const float* data = nullptr;
+  int width = 0;
+  int height = 0;
+};
+
+// Window of scale S: edge L = 2^S*10+1, 6x6 samples with spacing 2^(S+1) (radius 5*2^S).
+constexpr int kWindowSamplesPerAxis = 6;
+constexpr int kWindowSamples = kWindowSamplesPerAxis * kWindowSamplesPerAxis;
+
+struct WindowSpec {
+  int radius = 5;
+  int step = 2;
+};
+
+MPMVS_HD MPMVS_FORCE_INLINE WindowSpec WindowForScale(int scale) {
+  return WindowSpec{5 << scale, 2 << scale};
+}
+MPMVS_HD MPMVS_FORCE_INLINE int WindowSide(const WindowSpec& w) { return 2 * w.radius + 1; }
+// Offset of sample k (0..5) along an axis.
+MPMVS_HD MPMVS_FORCE_INLINE int WindowOffset(const WindowSpec& w, int k) { return -w.radius + k * w.step; }
+
+// Bilateral weight constants of ACMH (distances unsquared, as in the reference code).
+constexpr float kSigmaSpatial = 5.0f;
+constexpr float kSigmaColor = 3.0f;
+constexpr float kMinNccVariance = 1e-5f;
+
+// Bilinear sample with clamp-to-edge addressing.
+MPMVS_HD MPMVS_FORCE_INLINE float SampleBilinear(const ImageView& img, float x, float y) {
+  x = Clamp(x, 0.f, static_cast<float>(img.width - 1));
+  y = Clamp(y, 0.f, static_cast<float>(img.height - 1));
+  const int x0 = static_cast<int>(x);
+  const int y0 = static_cast<int>(y);
+  const int x1 = MinI(x0 + 1, img.width - 1);
+  const int y1 = MinI(y0 + 1, img.height - 1);
+  const float fx = x - x0;
+  const float fy = y - y0;
+  const float* r0 = img.data + static_cast<long>(y0) * img.width;
+  const float* r1 = img.data + static_cast<long>(y1) * img.width;
+  const float top = r0[x0] + fx * (r0[x1] - r0[x0]);
+  const float bottom = r1[x0] + fx * (r1[x1] - r1[x0]);
+  return top + fy * (bottom - top);
+}
+
+// Reference patch statistics. Intensities are shifted by the centre value (NCC is offset
+// invariant) so the float moments do not cancel catastrophically on flat walls.
+struct RefPatch {
+  float weight[kWindowSamples];           // normalised to sum 1
+  float weighted_value[kWindowSamples];   // weight * (I_ref - centre)
+  float mean;                             // sum weight * (I_ref - centre)
+  float variance;                         // weighted variance
+  float centre;                           // I_ref(p)
+};
+
+MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const WindowSpec& win,
+                                     RefPatch* patch) {
+  const float centre = ref.data[static_cast<long>(v) * ref.width + u];
+  const float inv_spatial = 1.f / (2.f * kSigmaSpatial * kSigmaSpatial);
+  const float inv_color = 1.f / (2.f * kSigmaColor * kSigmaColor);
+  float wsum = 0.f;
+  float values[kWindowSamples];
+  for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
+    const int dy = WindowOffset(win, j);
+    const int y = MinI(MaxI(v + dy, 0), ref.height - 1);
+    for (int i = 0; i < kWindowSamplesPerAxis; ++i) {
+      const int dx = WindowOffset(win, i);
+      const int x = MinI(MaxI(u + dx, 0), ref.width - 1);
+      const float value = ref.data[static_cast<long>(y) * ref.width + x] - centre;
+      const float dist = sqrtf(static_cast<float>(dx * dx + dy * dy));
+      const float w = expf(-dist * inv_spatial - fabsf(value) * inv_color);
+      const int k = j * kWindowSamplesPerAxis + i;
+      patch->weight[k] = w;
+      values[k] = value;
+      wsum += w;
+    }
+  }
+  const float inv_wsum = 1.f / wsum;
+  float mean = 0.f, sq = 0.f;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    const float w = patch->weight[k] * inv_wsum;
+    patch->weight[k] = w;
+    patch->weighted_value[k] = w * values[k];
+    mean += w * values[k];
+    sq += w * values[k] * values[k];
+  }
+  patch->mean = mean;
+  patch->variance = sq - mean * mean;
+  patch->centre = centre;
+}
+
+// NCC cost in [0, 2] of the reference patch against a source image under homography H
+// (reference pixel -> source pixel). 2 when the centre maps outside the source image,
+// behind it, or either patch is flat.
+MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
+                                     int u, int v, const WindowSpec& win) {
+  const float fu = static_cast<float>(u), fv = static_cast<float>(v);
+  const float cz = H[6] * fu + H[7] * fv + H[8];
+  if (!(cz > 0.f)) return kInvalidCost;
+  const float cx = (H[0] * fu + H[1] * fv + H[2]) / cz;
+  const float cy = (H[3] * fu + H[4] * fv + H[5]) / cz;
+  if (!(cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height)) return kInvalidCost;
+  if (patch.variance < kMinNccVariance) return kInvalidCost;
+
+  float sum_s = 0.f, sum_ss = 0.f, sum_rs = 0.f;
+  const float shift = patch.centre;
+  for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
+    const float y = fv + static_cast<float>(WindowOffset(win, j));
+    const float row_x = H[1] * y + H[2];
+    const float row_y = H[4] * y + H[5];
+    const float row_z = H[7] * y + H[8];
+    for (int i = 0; i < kWindowSamplesPerAxis; ++i) {
+      const float x = fu + static_cast<float>(WindowOffset(win, i));
+      const float hz = H[6] * x + row_z;
+      const float inv = 1.f / hz;
+      const float sx = (H[0] * x + row_x) * inv;
+      const float sy = (H[3] * x + row_y) * inv;
+      const float value = SampleBilinear(src, sx, sy) - shift;
+      const int k = j * kWindowSamplesPerAxis + i;
+      const float wv = patch.weight[k] * value;
+      sum_s += wv;
+      sum_ss += wv * value;
+      sum_rs += patch.weighted_value[k] * value;
+    }
+  }
+  const float var_s = sum_ss - sum_s * sum_s;
+  if (var_s < kMinNccVariance) return kInvalidCost;
+  const float cov = sum_rs - patch.mean * sum_s;
+  return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
+}
+
+}  // namespace kernels
+}  // namespace mpmvs

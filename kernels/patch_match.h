@@ -1,0 +1,105 @@
+#pragma once
+// Host API of the PatchMatch engine: one reference image, its sources, a schedule of
+// iterations; the CPU backend runs it over all cores, the CUDA backend on a GPU. Plain data
+// in, plain data out; no I/O.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "kernels/patch_match_pixel.h"
+
+namespace mpmvs {
+namespace kernels {
+
+struct PatchMatchSource {
+  ImageView image;
+  Camera camera;
+  const float* depth_map = nullptr;  // required for geometric schedules (camera size)
+};
+
+struct PatchMatchProblem {
+  uint32_t image_id = 0;  // feeds the random streams
+  Camera ref_camera;
+  ImageView ref_image;
+  std::vector<PatchMatchSource> sources;
+  float depth_min = 0.f, depth_max = 0.f;
+  // Optional starting hypotheses (4 floats per pixel, d = 0 for none) and their costs.
+  const float* init_plane = nullptr;
+  const float* init_cost = nullptr;
+  // Optional planar prior (4 floats per pixel + label per pixel).
+  const float* prior_plane = nullptr;
+  const uint8_t* prior_label = nullptr;
+};
+
+// One iteration = a black pass then a red pass, at a window scale, with the good-match
+// threshold of iteration index tau_index (restarting per scale).
+struct IterationSpec {
+  int window_scale = 0;
+  int tau_index = 0;
+};
+
+struct PatchMatchSchedule {
+  std::vector<IterationSpec> iterations;
+  PatternKind pattern = PatternKind::kDistant;
+  bool geometric = false;
+  float geom_lambda = 0.2f;
+  float geom_max_error = 2.0f;
+  bool use_prior = false;
+  float prior_gamma = 0.5f;
+  float prior_beta = 0.18f;
+  float prior_sigma_normal_deg = 5.f;
+  float refinement_rho = 0.02f;
+  float tau0 = 0.8f;
+  float tau_alpha = 90.f;
+  uint64_t seed = 0;
+  uint32_t stage_id = 0;  // distinguishes the random streams of different stages
+  int num_threads = -1;   // CPU backend: -1 = all cores
+
+  // Throws std::invalid_argument with a message when inconsistent.
+  void Check() const;
+};
+
+struct IterationStats {
+  int window_scale = 0;
+  int window_side = 0;
+  PatternKind pattern = PatternKind::kDistant;
+  float tau = 0.f;
+  uint64_t ncc_evaluations = 0;  // view x hypothesis NCCs computed (36 samples each)
+  double seconds = 0.0;
+};
+
+struct PatchMatchResult {
+  int width = 0, height = 0;
+  std::vector<float> plane;  // 4 per pixel
+  std::vector<float> cost, photo_cost, geo_error;
+  std::vector<uint32_t> view_mask;
+  uint64_t init_ncc_evaluations = 0;
+  std::vector<IterationStats> iterations;
+};
+
+// Called after every iteration with (done, total).
+using ProgressCallback = std::function<void(int, int)>;
+
+void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+                      PatchMatchResult* result, const ProgressCallback& progress = nullptr);
+
+// Whether a CUDA device can be used (false with the reason in *why when the build has no
+// CUDA or no device/driver is present: any CUDA error counts as "no device").
+bool CudaDeviceAvailable(int gpu_index, std::string* why);
+// Same contract as RunPatchMatchCpu; throws std::runtime_error when CUDA is unusable.
+void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+                       int gpu_index, PatchMatchResult* result,
+                       const ProgressCallback& progress = nullptr);
+
+// Depth (W*H, 0 = invalid) and camera-frame normal (3 planes of W*H, COLMAP layout) maps.
+void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchResult& result,
+                            std::vector<float>* depth, std::vector<float>* normal);
+
+// Builds the per-pass parameters shared by both backends (sources must outlive the params).
+PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+                          const SourceView* sources);
+// SourceViews (with relative poses) for a problem.
+std::vector<SourceView> MakeSourceViews(const PatchMatchProblem& problem);
+
+}  // namespace kernels
+}  // namespace mpmvs

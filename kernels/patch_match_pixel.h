@@ -1,0 +1,458 @@
+#pragma once
+// The per-pixel PatchMatch update: hypothesis initialisation, checkerboard propagation with
+// multi-hypothesis view selection, random refinement, geometric consistency and the planar
+// prior score (ALGORITHM.md §2-§8, with the corrections listed in kernels/DESIGN.md).
+// Written once for host and device; the backends only decide which pixels run where.
+#include <math.h>
+
+#include "kernels/camera.h"
+#include "kernels/ncc.h"
+#include "kernels/propagation_pattern.h"
+#include "kernels/random.h"
+#include "kernels/view_selection.h"
+
+namespace mpmvs {
+namespace kernels {
+
+constexpr float kPi = 3.14159265358979f;
+
+// One source view of the reference image.
+struct SourceView {
+  ImageView image;
+  Camera camera;
+  RelativePose rel;            // reference camera -> this camera
+  const float* depth = nullptr;  // this view's depth map (geometric passes), camera size
+};
+
+// Per-pixel state, W*H entries each (host or device memory).
+struct PixelState {
+  float* plane = nullptr;       // 4 floats per pixel: nx, ny, nz, d (reference camera frame)
+  float* cost = nullptr;        // cost of the current plane (photometric + lambda * geometric)
+  float* photo_cost = nullptr;  // m_p of the current plane
+  float* geo_error = nullptr;   // m_g: weighted mean clamped reprojection error (px)
+  uint32_t* view_mask = nullptr;
+};
+
+// Planar prior per pixel: label != 0 where a triangle covers the pixel.
+struct PlanarPrior {
+  const float* plane = nullptr;  // 4 floats per pixel, reference camera frame
+  const uint8_t* label = nullptr;
+  float gamma = 0.5f;
+  float beta = 0.18f;
+  float sigma_depth = 1.f;                  // (depth_max - depth_min) / 64
+  float sigma_normal = 5.f * kPi / 180.f;  // radians
+};
+
+struct RefinementParams {
+  float rho = 0.02f;  // depth +-2 %, normal +-rho*pi/2 per Euler angle
+};
+
+struct PassParams {
+  Camera ref_camera;
+  ImageView ref_image;
+  const SourceView* sources = nullptr;  // host or device array
+  int num_sources = 0;
+  WindowSpec window;
+  PropagationPattern pattern;
+  ViewSelectionParams view_selection;
+  RefinementParams refinement;
+  float depth_min = 0.f, depth_max = 1.f;
+  bool geometric = false;
+  float geom_lambda = 0.2f;
+  float geom_max_error = 2.0f;
+  bool use_prior = false;
+  PlanarPrior prior;
+  uint64_t seed = 0;
+  uint32_t image_id = 0;
+  uint32_t rng_iteration = 0;  // unique per pass and stage, for the random streams
+  int color = 0;                // checkerboard colour being updated: (u + v) % 2 == color
+  int init_top_k = 4;
+};
+
+// ---------------------------------------------------------------------------------------
+// Hypotheses
+
+MPMVS_HD inline Vec3 RandomNormal(RandomStream* rng, Vec3 ray) {
+  float q1, q2, s;
+  int guard = 0;
+  do {
+    q1 = rng->Uniform(-1.f, 1.f);
+    q2 = rng->Uniform(-1.f, 1.f);
+    s = q1 * q1 + q2 * q2;
+  } while ((s >= 1.f || s == 0.f) && ++guard < 64);
+  if (s >= 1.f || s == 0.f) return Normalize(-ray);
+  const float r = 2.f * sqrtf(1.f - s);
+  Vec3 n{q1 * r, q2 * r, 1.f - 2.f * s};
+  return Normalize(FaceCamera(n, ray));
+}
+
+MPMVS_HD inline Vec3 PerturbNormal(RandomStream* rng, Vec3 n, float max_angle, Vec3 ray) {
+  const float a1 = rng->Uniform(-max_angle, max_angle);
+  const float a2 = rng->Uniform(-max_angle, max_angle);
+  const float a3 = rng->Uniform(-max_angle, max_angle);
+  const Vec3 p = Normalize(RotateEulerXYZ(n, a1, a2, a3));
+  return Dot(p, ray) < 0.f ? p : n;
+}
+
+MPMVS_HD MPMVS_FORCE_INLINE Plane LoadPlane(const float* planes, int idx) {
+  const float* p = planes + 4 * static_cast<long>(idx);
+  return Plane{Vec3{p[0], p[1], p[2]}, p[3]};
+}
+MPMVS_HD MPMVS_FORCE_INLINE void StorePlane(float* planes, int idx, const Plane& plane) {
+  float* p = planes + 4 * static_cast<long>(idx);
+  p[0] = plane.n.x;
+  p[1] = plane.n.y;
+  p[2] = plane.n.z;
+  p[3] = plane.d;
+}
+
+MPMVS_HD MPMVS_FORCE_INLINE bool DepthInRange(const PassParams& params, float depth) {
+  return depth >= params.depth_min && depth <= params.depth_max;
+}
+
+// ---------------------------------------------------------------------------------------
+// Costs
+
+// Forward-backward reprojection error (px) of the point at `depth` on the ray of (u, v)
+// through source view s and its depth map, clamped to max_error (ALGORITHM.md §7).
+MPMVS_HD inline float GeometricError(const PassParams& params, const SourceView& src, int u, int v,
+                                     Vec3 ray, float depth) {
+  const float max_error = params.geom_max_error;
+  if (!(depth > 0.f)) return max_error;
+  const Vec3 X_src = MatVec(src.rel.R, depth * ray) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
+  float us, vs;
+  if (!ProjectCameraPoint(src.camera, X_src, &us, &vs)) return max_error;
+  const int col = static_cast<int>(us + 0.5f);
+  const int row = static_cast<int>(vs + 0.5f);
+  if (us < -0.5f || vs < -0.5f || col >= src.camera.width || row >= src.camera.height) return max_error;
+  const float d = src.depth[static_cast<long>(row) * src.camera.width + col];
+  if (!(d > 0.f)) return max_error;
+  const Vec3 back = d * PixelRay(src.camera, us, vs);
+  const Vec3 X_ref =
+      MatVec(src.rel.Rinv, back) + Vec3{src.rel.tinv[0], src.rel.tinv[1], src.rel.tinv[2]};
+  float ur, vr;
+  if (!ProjectCameraPoint(params.ref_camera, X_ref, &ur, &vr)) return max_error;
+  const float du = ur - static_cast<float>(u), dv = vr - static_cast<float>(v);
+  return Min(sqrtf(du * du + dv * dv), max_error);
+}
+
+// Per-view photometric cost of a plane in source view s.
+MPMVS_HD MPMVS_FORCE_INLINE float ViewPhotoCost(const PassParams& params, const RefPatch& patch,
+                                                int s, Vec3 m, int u, int v, uint32_t* num_ncc) {
+  float H[9];
+  PlaneHomography(params.sources[s].rel, m, H);
+  ++*num_ncc;
+  return ComputeNccCost(patch, params.sources[s].image, H, u, v, params.window);
+}
+
+struct WeightedCost {
+  float total;  // photo + lambda * geo
+  float photo;
+  float geo;
+};
+
+// View-weighted cost of a plane (ALGORITHM.md §3 step 6, §7).
+MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPatch& patch,
+                                           const float* weights, int u, int v, Vec3 ray,
+                                           const Plane& plane, uint32_t* num_ncc) {
+  const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
+  const float depth = params.geometric ? PlaneDepth(plane, ray) : 0.f;
+  float wsum = 0.f, photo = 0.f, geo = 0.f;
+  for (int s = 0; s < params.num_sources; ++s) {
+    const float w = weights[s];
+    if (w <= 0.f) continue;
+    wsum += w;
+    photo += w * ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+    if (params.geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
+  }
+  if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
+  photo /= wsum;
+  geo = params.geometric ? geo / wsum : 0.f;
+  return WeightedCost{photo + params.geom_lambda * geo, photo, geo};
+}
+
+// Planar compatibility score to maximise (ACMP): exp(-C^2/beta) * (gamma + depth/normal
+// agreement with the prior plane).
+MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float cost, const Plane& plane,
+                                 const Plane& prior_plane, Vec3 ray) {
+  const float depth = PlaneDepth(plane, ray);
+  const float prior_depth = PlaneDepth(prior_plane, ray);
+  const float dz = depth - prior_depth;
+  const float cos_angle = Clamp(Dot(plane.n, prior_plane.n), -1.f, 1.f);
+  const float angle = acosf(cos_angle);
+  const float compat =
+      prior.gamma + expf(-dz * dz / (2.f * prior.sigma_depth * prior.sigma_depth)) *
+                        expf(-angle * angle / (2.f * prior.sigma_normal * prior.sigma_normal));
+  return expf(-cost * cost / prior.beta) * compat;
+}
+
+// ---------------------------------------------------------------------------------------
+// Initialisation
+
+// Costs of `plane` in every view; cost = mean of the top_k smallest valid ones, mask = views
+// at or below the k-th smallest (ALGORITHM.md §2).
+MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch, int u, int v,
+                                 Vec3 ray, const Plane& plane, float* cost, float* photo_cost,
+                                 float* geo_error, uint32_t* mask, uint32_t* num_ncc) {
+  const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
+  const float depth = PlaneDepth(plane, ray);
+  float photo[kMaxSourceViews], geo[kMaxSourceViews], total[kMaxSourceViews];
+  int num_valid = 0;
+  for (int s = 0; s < params.num_sources; ++s) {
+    photo[s] = ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+    geo[s] = params.geometric ? GeometricError(params, params.sources[s], u, v, ray, depth) : 0.f;
+    total[s] = photo[s] + params.geom_lambda * geo[s];
+    if (photo[s] < kInvalidCost) ++num_valid;
+  }
+  const int k = MinI(num_valid, params.init_top_k);
+  if (k == 0) {
+    *cost = kInvalidCost + (params.geometric ? params.geom_lambda * params.geom_max_error : 0.f);
+    *photo_cost = kInvalidCost;
+    *geo_error = params.geometric ? params.geom_max_error : 0.f;
+    *mask = 0;
+    return;
+  }
+  // k-th smallest total cost among valid views by repeated selection (k <= 4, N <= 32).
+  uint32_t chosen = 0;
+  float sum_total = 0.f, sum_photo = 0.f, sum_geo = 0.f, kth = 0.f;
+  for (int i = 0; i < k; ++i) {
+    int best = -1;
+    for (int s = 0; s < params.num_sources; ++s) {
+      if ((chosen >> s & 1u) || !(photo[s] < kInvalidCost)) continue;
+      if (best < 0 || total[s] < total[best]) best = s;
+    }
+    chosen |= 1u << best;
+    sum_total += total[best];
+    sum_photo += photo[best];
+    sum_geo += geo[best];
+    kth = total[best];
+  }
+  uint32_t selected = 0;
+  for (int s = 0; s < params.num_sources; ++s) {
+    if (photo[s] < kInvalidCost && total[s] <= kth) selected |= 1u << s;
+  }
+  *cost = sum_total / k;
+  *photo_cost = sum_photo / k;
+  *geo_error = sum_geo / k;
+  *mask = selected;
+}
+
+// Initial hypothesis of pixel (u, v). init_plane (optional) holds planes from an earlier
+// stage (d = 0 means none); prior pixels whose earlier cost is >= 0.1 restart near the prior
+// plane (ACMP's initialisation of the prior run).
+MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState& state,
+                                     const float* init_plane, const float* init_cost, int u,
+                                     int v, uint32_t* num_ncc) {
+  const int W = params.ref_camera.width;
+  const int idx = v * W + u;
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
+  Plane plane{Vec3{0.f, 0.f, -1.f}, 0.f};
+  bool have = false;
+  if (init_plane) {
+    plane = LoadPlane(init_plane, idx);
+    const float depth = PlaneDepth(plane, ray);
+    have = plane.d != 0.f && DepthInRange(params, depth);
+  }
+  if (params.use_prior && params.prior.label[idx] &&
+      (!have || !init_cost || init_cost[idx] >= 0.1f)) {
+    const Plane prior_plane = LoadPlane(params.prior.plane, idx);
+    const float prior_depth = PlaneDepth(prior_plane, ray);
+    const float depth = prior_depth * rng.Uniform(0.94f, 1.06f);
+    const Vec3 n = PerturbNormal(&rng, prior_plane.n, 0.03f * kPi, ray);
+    if (DepthInRange(params, depth)) {
+      plane = PlaneFromDepthNormal(ray, depth, n);
+      have = true;
+    }
+  }
+  if (!have) {
+    const float depth = rng.Uniform(params.depth_min, params.depth_max);
+    plane = PlaneFromDepthNormal(ray, depth, RandomNormal(&rng, ray));
+  }
+  StorePlane(state.plane, idx, plane);
+  RefPatch patch;
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+  InitialCost(params, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
+              &state.geo_error[idx], &state.view_mask[idx], num_ncc);
+}
+
+// ---------------------------------------------------------------------------------------
+// Propagation + view selection + refinement of one pixel (one checkerboard pass).
+
+MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& state, int u, int v,
+                                 uint32_t* num_ncc) {
+  const int W = params.ref_camera.width, Hh = params.ref_camera.height;
+  const int idx = v * W + u;
+  const int N = params.num_sources;
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
+
+  RefPatch patch;
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+
+  // 1. Best stored hypothesis per region (neighbours have the other colour: no races).
+  Plane candidates[kNumRegions];
+  bool valid[kNumRegions];
+  for (int r = 0; r < kNumRegions; ++r) {
+    int best = -1;
+    float best_cost = 0.f;
+    for (int i = 0; i < params.pattern.num_samples[r]; ++i) {
+      const int x = u + params.pattern.du[r][i];
+      const int y = v + params.pattern.dv[r][i];
+      if (x < 0 || y < 0 || x >= W || y >= Hh) continue;
+      const int q = y * W + x;
+      const float c = state.cost[q];
+      if (best < 0 || c < best_cost) {
+        best = q;
+        best_cost = c;
+      }
+    }
+    valid[r] = false;
+    if (best >= 0) {
+      candidates[r] = LoadPlane(state.plane, best);
+      valid[r] = DepthInRange(params, PlaneDepth(candidates[r], ray));
+    }
+  }
+
+  // 2. Per-view photometric costs of the candidates (invalid regions: cost 2, left out).
+  float photo[kNumRegions * kMaxSourceViews];
+  for (int r = 0; r < kNumRegions; ++r) {
+    if (!valid[r]) {
+      for (int s = 0; s < N; ++s) photo[r * N + s] = kInvalidCost;
+      continue;
+    }
+    const Vec3 m = HomographyPlaneVector(params.ref_camera, candidates[r]);
+    for (int s = 0; s < N; ++s) photo[r * N + s] = ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+  }
+
+  // 3. View selection with the neighbour prior.
+  uint32_t neighbour_masks[4];
+  int num_neighbours = 0;
+  if (v > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - W];
+  if (v + 1 < Hh) neighbour_masks[num_neighbours++] = state.view_mask[idx + W];
+  if (u > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - 1];
+  if (u + 1 < W) neighbour_masks[num_neighbours++] = state.view_mask[idx + 1];
+  float prior[kMaxSourceViews], weights[kMaxSourceViews];
+  NeighbourViewPrior(neighbour_masks, num_neighbours, N, params.view_selection, prior);
+  const uint32_t selected =
+      SelectViews(photo, valid, N, prior, params.view_selection, &rng, weights);
+  float wsum = 0.f;
+  for (int s = 0; s < N; ++s) wsum += weights[s];
+
+  // 4. Weighted costs of the candidates and of the current plane.
+  Plane current = LoadPlane(state.plane, idx);
+  WeightedCost current_cost = EvaluatePlane(params, patch, weights, u, v, ray, current, num_ncc);
+  uint32_t mask = state.view_mask[idx];
+
+  const bool prior_pixel = params.use_prior && params.prior.label[idx];
+  Plane prior_plane{};
+  float current_score = 0.f;
+  if (prior_pixel) {
+    prior_plane = LoadPlane(params.prior.plane, idx);
+    current_score = PriorScore(params.prior, current_cost.total, current, prior_plane, ray);
+  }
+
+  int best_r = -1;
+  WeightedCost best_cost{0.f, 0.f, 0.f};
+  float best_score = 0.f;
+  for (int r = 0; r < kNumRegions; ++r) {
+    if (!valid[r]) continue;
+    WeightedCost c;
+    c.photo = 0.f;
+    for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
+    c.photo /= wsum;
+    c.geo = 0.f;
+    if (params.geometric) {
+      const float depth = PlaneDepth(candidates[r], ray);
+      for (int s = 0; s < N; ++s) {
+        if (weights[s] > 0.f)
+          c.geo += weights[s] * GeometricError(params, params.sources[s], u, v, ray, depth);
+      }
+      c.geo /= wsum;
+    }
+    c.total = c.photo + params.geom_lambda * c.geo;
+    if (prior_pixel) {
+      const float score = PriorScore(params.prior, c.total, candidates[r], prior_plane, ray);
+      if (best_r < 0 || score > best_score) {
+        best_r = r;
+        best_cost = c;
+        best_score = score;
+      }
+    } else if (best_r < 0 || c.total < best_cost.total) {
+      best_r = r;
+      best_cost = c;
+    }
+  }
+  if (best_r >= 0) {
+    const bool better = prior_pixel ? best_score > current_score : best_cost.total < current_cost.total;
+    if (better) {
+      current = candidates[best_r];
+      current_cost = best_cost;
+      current_score = best_score;
+      mask = selected;
+    }
+  }
+
+  // 5. Random refinement: 5 candidates around / away from the current plane.
+  const float depth_now = PlaneDepth(current, ray);
+  float depth_rand, depth_perturbed;
+  Vec3 normal_rand;
+  if (prior_pixel) {
+    // Sample around the prior plane (ACMP; the reference MP-MVS code lost this branch).
+    const float prior_depth = PlaneDepth(prior_plane, ray);
+    const float span = 3.f * params.prior.sigma_depth;
+    depth_rand = Clamp(rng.Uniform(prior_depth - span, prior_depth + span), params.depth_min,
+                       params.depth_max);
+    normal_rand = PerturbNormal(&rng, prior_plane.n, 0.5f * params.prior.sigma_normal, ray);
+  } else {
+    depth_rand = rng.Uniform(params.depth_min, params.depth_max);
+    normal_rand = RandomNormal(&rng, ray);
+  }
+  const float rho = params.refinement.rho;
+  depth_perturbed = rng.Uniform((1.f - rho) * depth_now, (1.f + rho) * depth_now);
+  const Vec3 normal_perturbed = PerturbNormal(&rng, current.n, 0.5f * rho * kPi, ray);
+  const Vec3 normal_now = current.n;
+  const float cand_depth[5] = {depth_rand, depth_now, depth_rand, depth_now, depth_perturbed};
+  const Vec3 cand_normal[5] = {normal_now, normal_rand, normal_rand, normal_perturbed, normal_now};
+  for (int i = 0; i < 5; ++i) {
+    if (!DepthInRange(params, cand_depth[i])) continue;
+    const Plane cand = PlaneFromDepthNormal(ray, cand_depth[i], cand_normal[i]);
+    const WeightedCost c = EvaluatePlane(params, patch, weights, u, v, ray, cand, num_ncc);
+    if (prior_pixel) {
+      const float score = PriorScore(params.prior, c.total, cand, prior_plane, ray);
+      if (score > current_score) {
+        current = cand;
+        current_cost = c;
+        current_score = score;
+      }
+    } else if (c.total < current_cost.total) {
+      current = cand;
+      current_cost = c;
+    }
+  }
+
+  StorePlane(state.plane, idx, current);
+  state.cost[idx] = current_cost.total;
+  state.photo_cost[idx] = current_cost.photo;
+  state.geo_error[idx] = current_cost.geo;
+  state.view_mask[idx] = mask;
+}
+
+// Depth and camera-frame normal of the final plane; 0 where the pixel has no valid estimate.
+MPMVS_HD inline void ExtractDepthNormal(const PassParams& params, const PixelState& state, int u,
+                                        int v, float* depth, Vec3* normal) {
+  const int idx = v * params.ref_camera.width + u;
+  const Plane plane = LoadPlane(state.plane, idx);
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  const float z = PlaneDepth(plane, ray);
+  if (!(state.photo_cost[idx] < kInvalidCost) || !DepthInRange(params, z)) {
+    *depth = 0.f;
+    *normal = Vec3{0.f, 0.f, 0.f};
+    return;
+  }
+  *depth = z;
+  *normal = plane.n;
+}
+
+}  // namespace kernels
+}  // namespace mpmvs

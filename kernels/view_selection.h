@@ -1,0 +1,113 @@
+#pragma once
+// ACMH multi-hypothesis joint view selection (ALGORITHM.md §3): from the per-view costs of
+// the 8 propagated candidates, each source view gets a probability of being a good view;
+// 15 Monte-Carlo draws turn the probabilities into integer view weights.
+#include <math.h>
+
+#include "kernels/propagation_pattern.h"
+#include "kernels/random.h"
+
+namespace mpmvs {
+namespace kernels {
+
+struct ViewSelectionParams {
+  float good_threshold = 0.8f;  // tau(t), see GoodMatchThreshold
+  float bad_threshold = 1.2f;
+  float good_weight_beta = 0.18f;   // exp(-c^2 / 0.18), i.e. beta = 0.3
+  float fallback_beta = 0.32f;      // exp(-tau^2 / 0.32)
+  int num_samples = 15;
+  float neighbour_selected = 0.9f;  // prior from a neighbour that selected the view
+  float neighbour_unselected = 0.1f;
+};
+
+// tau(t) = tau0 * exp(-t^2 / alpha), t restarting at 0 at every window scale.
+MPMVS_HD MPMVS_FORCE_INLINE float GoodMatchThreshold(int t, float tau0 = 0.8f, float alpha = 90.f) {
+  return tau0 * expf(-static_cast<float>(t * t) / alpha);
+}
+
+// costs[k * num_views + s]: cost of candidate k in view s; candidate_valid[k]: whether the
+// region produced a candidate (invalid ones are left out of the statistics). prior[s]:
+// neighbour prior. Writes weights[s] (number of draws) and returns the selected-view mask.
+MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_valid,
+                                     int num_views, const float* prior,
+                                     const ViewSelectionParams& params, RandomStream* rng,
+                                     float* weights) {
+  float prob[kMaxSourceViews];
+  float total = 0.f;
+  const float tau = params.good_threshold;
+  for (int s = 0; s < num_views; ++s) {
+    int n_good = 0, n_bad = 0;
+    float good_sum = 0.f;
+    for (int k = 0; k < kNumRegions; ++k) {
+      if (!candidate_valid[k]) continue;
+      const float c = costs[k * num_views + s];
+      if (c < tau) {
+        ++n_good;
+        good_sum += expf(-c * c / params.good_weight_beta);
+      } else if (c > params.bad_threshold) {
+        ++n_bad;
+      }
+    }
+    float p = 0.f;
+    if (n_good > 2 && n_bad < 3) {
+      p = prior[s] * good_sum / n_good;
+    } else if (n_bad < 3) {
+      p = prior[s] * expf(-tau * tau / params.fallback_beta);
+    }
+    prob[s] = p;
+    total += p;
+  }
+  if (!(total > 0.f)) {
+    // Every view looks bad for every candidate: fall back to the views that matched at all
+    // (uniform), else to all views, rather than dividing by zero.
+    for (int s = 0; s < num_views; ++s) {
+      float best = kInvalidCost;
+      for (int k = 0; k < kNumRegions; ++k) {
+        if (candidate_valid[k]) best = Min(best, costs[k * num_views + s]);
+      }
+      prob[s] = best < kInvalidCost ? 1.f : 0.f;
+      total += prob[s];
+    }
+    if (!(total > 0.f)) {
+      for (int s = 0; s < num_views; ++s) prob[s] = 1.f;
+      total = static_cast<float>(num_views);
+    }
+  }
+  for (int s = 0; s < num_views; ++s) weights[s] = 0.f;
+  for (int i = 0; i < params.num_samples; ++i) {
+    const float r = rng->Uniform() * total;
+    float acc = 0.f;
+    int chosen = num_views - 1;
+    for (int s = 0; s < num_views; ++s) {
+      acc += prob[s];
+      if (r < acc && prob[s] > 0.f) {
+        chosen = s;
+        break;
+      }
+    }
+    // Guard against rounding picking a zero-probability last view.
+    while (prob[chosen] <= 0.f && chosen > 0) --chosen;
+    weights[chosen] += 1.f;
+  }
+  uint32_t mask = 0;
+  for (int s = 0; s < num_views; ++s) {
+    if (weights[s] > 0.f) mask |= (1u << s);
+  }
+  return mask;
+}
+
+// View prior from the selected-view masks of the (up to 4) direct neighbours.
+MPMVS_HD inline void NeighbourViewPrior(const uint32_t* neighbour_masks, int num_neighbours,
+                                        int num_views, const ViewSelectionParams& params,
+                                        float* prior) {
+  for (int s = 0; s < num_views; ++s) {
+    float p = 0.f;
+    for (int i = 0; i < num_neighbours; ++i) {
+      p += (neighbour_masks[i] >> s & 1u) ? params.neighbour_selected : params.neighbour_unselected;
+    }
+    prior[s] = num_neighbours > 0 ? p : 1.f;
+  }
+}
+
+}  // namespace kernels
+}  // namespace mpmvs

@@ -1,0 +1,267 @@
+// Unit tests of the shared per-pixel math (kernels/*.h) as the CPU backend runs it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+Camera MakeCamera(int w, int h, float f, const float R[9], const float t[3]) {
+  Camera c;
+  c.width = w;
+  c.height = h;
+  c.fx = c.fy = f;
+  c.cx = w / 2.f;
+  c.cy = h / 2.f;
+  for (int i = 0; i < 9; ++i) c.R[i] = R[i];
+  for (int i = 0; i < 3; ++i) c.t[i] = t[i];
+  return c;
+}
+
+// Rotation about axis (normalised) by angle, row-major.
+void AxisAngle(float ax, float ay, float az, float angle, float R[9]) {
+  const float n = std::sqrt(ax * ax + ay * ay + az * az);
+  ax /= n, ay /= n, az /= n;
+  const float c = std::cos(angle), s = std::sin(angle), C = 1 - c;
+  const float M[9] = {c + ax * ax * C,      ax * ay * C - az * s, ax * az * C + ay * s,
+                      ay * ax * C + az * s, c + ay * ay * C,      ay * az * C - ax * s,
+                      az * ax * C - ay * s, az * ay * C + ax * s, c + az * az * C};
+  for (int i = 0; i < 9; ++i) R[i] = M[i];
+}
+
+TEST(KernelCamera, HomographyMatchesDirectReprojection) {
+  float Rr[9], Rs[9];
+  AxisAngle(0.3f, 1.f, 0.2f, 0.2f, Rr);
+  AxisAngle(-0.5f, 0.4f, 1.f, 0.35f, Rs);
+  const float tr[3] = {0.1f, -0.2f, 0.3f}, ts[3] = {-0.4f, 0.1f, 0.2f};
+  Camera ref = MakeCamera(200, 150, 180.f, Rr, tr);
+  Camera src = MakeCamera(220, 160, 200.f, Rs, ts);
+  src.cx = 105.f;
+  const RelativePose rel = ComputeRelativePose(ref, src);
+  const Vec3 n = Normalize(Vec3{0.2f, -0.3f, -1.f});
+  for (int trial = 0; trial < 20; ++trial) {
+    const float u = 10.f + 9.f * trial, v = 5.f + 7.f * trial;
+    const Vec3 ray = PixelRay(ref, u, v);
+    const float depth = 3.f + 0.1f * trial;
+    const Plane plane = PlaneFromDepthNormal(ray, depth, n);
+    EXPECT_NEAR(PlaneDepth(plane, ray), depth, 1e-4f);
+    float H[9];
+    PlaneHomography(rel, HomographyPlaneVector(ref, plane), H);
+    // Direct: back-project, to world, to source.
+    const Vec3 Xr = depth * ray;
+    const Vec3 Xw = MatTVec(ref.R, Xr - Vec3{tr[0], tr[1], tr[2]});
+    const Vec3 Xs = MatVec(src.R, Xw) + Vec3{ts[0], ts[1], ts[2]};
+    float us, vs;
+    ASSERT_TRUE(ProjectCameraPoint(src, Xs, &us, &vs));
+    const float hz = H[6] * u + H[7] * v + H[8];
+    EXPECT_NEAR((H[0] * u + H[1] * v + H[2]) / hz, us, 2e-3f);
+    EXPECT_NEAR((H[3] * u + H[4] * v + H[5]) / hz, vs, 2e-3f);
+  }
+}
+
+std::vector<float> RandomImage(int w, int h, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> dist(20.f, 230.f);
+  std::vector<float> img(static_cast<size_t>(w) * h);
+  for (float& x : img) x = dist(rng);
+  return img;
+}
+
+TEST(KernelNcc, InvariantToGainAndOffset) {
+  const int W = 64, H = 64;
+  std::vector<float> ref = RandomImage(W, H, 1);
+  std::vector<float> src(ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) src[i] = 0.6f * ref[i] + 17.f;
+  const ImageView rv{ref.data(), W, H}, sv{src.data(), W, H};
+  const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  for (int scale = 0; scale <= 1; ++scale) {
+    const WindowSpec win = WindowForScale(scale);
+    RefPatch patch;
+    ComputeRefPatch(rv, 32, 30, win, &patch);
+    EXPECT_NEAR(ComputeNccCost(patch, sv, identity, 32, 30, win), 0.f, 1e-3f);
+    // A shifted source does not match.
+    const float shift[9] = {1, 0, 3, 0, 1, 0, 0, 0, 1};
+    EXPECT_GT(ComputeNccCost(patch, sv, shift, 32, 30, win), 0.5f);
+    // Inverted contrast gives the maximum cost.
+    std::vector<float> inv(ref.size());
+    for (size_t i = 0; i < ref.size(); ++i) inv[i] = 255.f - ref[i];
+    EXPECT_NEAR(ComputeNccCost(patch, ImageView{inv.data(), W, H}, identity, 32, 30, win), 2.f,
+                1e-3f);
+  }
+}
+
+TEST(KernelNcc, InvalidCases) {
+  const int W = 32, H = 32;
+  std::vector<float> ref = RandomImage(W, H, 2);
+  std::vector<float> flat(ref.size(), 100.f);
+  const ImageView rv{ref.data(), W, H};
+  const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  RefPatch patch;
+  ComputeRefPatch(rv, 16, 16, WindowForScale(0), &patch);
+  // Flat source.
+  EXPECT_EQ(ComputeNccCost(patch, ImageView{flat.data(), W, H}, identity, 16, 16, WindowForScale(0)),
+            kInvalidCost);
+  // Centre outside the source.
+  const float away[9] = {1, 0, 100, 0, 1, 0, 0, 0, 1};
+  EXPECT_EQ(ComputeNccCost(patch, rv, away, 16, 16, WindowForScale(0)), kInvalidCost);
+  // Behind the camera.
+  const float behind[9] = {1, 0, 0, 0, 1, 0, 0, 0, -1};
+  EXPECT_EQ(ComputeNccCost(patch, rv, behind, 16, 16, WindowForScale(0)), kInvalidCost);
+  // Flat reference.
+  RefPatch flat_patch;
+  ComputeRefPatch(ImageView{flat.data(), W, H}, 16, 16, WindowForScale(0), &flat_patch);
+  EXPECT_EQ(ComputeNccCost(flat_patch, rv, identity, 16, 16, WindowForScale(0)), kInvalidCost);
+}
+
+TEST(KernelWindow, SizesAndOffsetsPerScale) {
+  const int sides[3] = {11, 21, 41};
+  for (int s = 0; s <= 2; ++s) {
+    const WindowSpec w = WindowForScale(s);
+    EXPECT_EQ(WindowSide(w), (1 << s) * 10 + 1);
+    EXPECT_EQ(WindowSide(w), sides[s]);
+    EXPECT_EQ(WindowOffset(w, 0), -w.radius);
+    EXPECT_EQ(WindowOffset(w, kWindowSamplesPerAxis - 1), w.radius);
+    EXPECT_EQ(WindowOffset(w, 1) - WindowOffset(w, 0), 2 << s);
+  }
+  // S = 1 samples are at ±2, ±6, ±10.
+  const WindowSpec w1 = WindowForScale(1);
+  std::set<int> offs;
+  for (int k = 0; k < 6; ++k) offs.insert(WindowOffset(w1, k));
+  EXPECT_EQ(offs, (std::set<int>{-10, -6, -2, 2, 6, 10}));
+}
+
+TEST(KernelViewSelection, GoodThresholdSchedule) {
+  EXPECT_FLOAT_EQ(GoodMatchThreshold(0), 0.8f);
+  EXPECT_NEAR(GoodMatchThreshold(1), 0.8f * std::exp(-1.f / 90.f), 1e-6f);
+  EXPECT_NEAR(GoodMatchThreshold(2), 0.8f * std::exp(-4.f / 90.f), 1e-6f);
+  EXPECT_GT(GoodMatchThreshold(0), GoodMatchThreshold(2));
+}
+
+TEST(KernelPropagation, DistantPatternLayout) {
+  const PropagationPattern p = MakePropagationPattern(PatternKind::kDistant);
+  for (int r = 0; r < 4; ++r) EXPECT_EQ(p.num_samples[r], 12);
+  for (int r = 4; r < 8; ++r) EXPECT_EQ(p.num_samples[r], 10);
+  std::set<std::pair<int, int>> all;
+  for (int r = 0; r < kNumRegions; ++r) {
+    for (int i = 0; i < p.num_samples[r]; ++i) {
+      const int du = p.du[r][i], dv = p.dv[r][i];
+      EXPECT_EQ(std::abs(du + dv) % 2, 1) << "region " << r << " sample " << i;
+      EXPECT_GE(std::sqrt(float(du * du + dv * dv)), 5.f);  // nothing near the pixel
+      EXPECT_TRUE(all.insert({du, dv}).second) << "duplicate sample";
+    }
+  }
+  // Up-V: (±k, -(k+1)), k = 5..10; up line: (0, -k), k = 5..23 odd.
+  std::set<std::pair<int, int>> up_v, up_line;
+  for (int i = 0; i < 12; ++i) up_v.insert({p.du[0][i], p.dv[0][i]});
+  for (int k = 5; k <= 10; ++k) {
+    EXPECT_TRUE(up_v.count({k, -(k + 1)}));
+    EXPECT_TRUE(up_v.count({-k, -(k + 1)}));
+  }
+  for (int i = 0; i < 10; ++i) up_line.insert({p.du[4][i], p.dv[4][i]});
+  for (int k = 5; k <= 23; k += 2) EXPECT_TRUE(up_line.count({0, -k}));
+  // Right line goes right.
+  for (int i = 0; i < 10; ++i) EXPECT_GT(p.du[7][i], 0);
+}
+
+TEST(KernelPropagation, AcmhPatternLayout) {
+  const PropagationPattern p = MakePropagationPattern(PatternKind::kAcmh);
+  for (int r = 0; r < 4; ++r) EXPECT_EQ(p.num_samples[r], 5);
+  for (int r = 4; r < 8; ++r) EXPECT_EQ(p.num_samples[r], 11);
+  bool has_adjacent = false;
+  for (int r = 0; r < kNumRegions; ++r) {
+    for (int i = 0; i < p.num_samples[r]; ++i) {
+      EXPECT_EQ(std::abs(p.du[r][i] + p.dv[r][i]) % 2, 1);
+      if (std::abs(p.du[r][i]) + std::abs(p.dv[r][i]) == 1) has_adjacent = true;
+    }
+  }
+  EXPECT_TRUE(has_adjacent);
+}
+
+TEST(KernelViewSelection, WeightsFollowCosts) {
+  // 3 views: view 0 good for all candidates, view 1 bad for all, view 2 mixed.
+  const int N = 3;
+  float costs[kNumRegions * N];
+  bool valid[kNumRegions];
+  for (int k = 0; k < kNumRegions; ++k) {
+    valid[k] = true;
+    costs[k * N + 0] = 0.1f;
+    costs[k * N + 1] = 1.8f;
+    costs[k * N + 2] = k < 4 ? 0.3f : 1.5f;
+  }
+  float prior[N] = {1.f, 1.f, 1.f};
+  ViewSelectionParams params;
+  RandomStream rng(1, 2, 3, 4);
+  float weights[N];
+  const uint32_t mask = SelectViews(costs, valid, N, prior, params, &rng, weights);
+  EXPECT_EQ(weights[0] + weights[1] + weights[2], 15.f);
+  EXPECT_EQ(weights[1], 0.f);  // n_bad >= 3 -> probability 0
+  EXPECT_EQ(weights[2], 0.f);  // 4 bad candidates -> probability 0
+  EXPECT_EQ(weights[0], 15.f);
+  EXPECT_EQ(mask, 1u);
+  // Invalid candidates are left out of the statistics: with only 2 valid candidates no view
+  // has more than 2 good matches, so all fall back to exp(-tau^2/0.32).
+  for (int k = 2; k < kNumRegions; ++k) valid[k] = false;
+  const uint32_t mask2 = SelectViews(costs, valid, N, prior, params, &rng, weights);
+  EXPECT_EQ(weights[0] + weights[1] + weights[2], 15.f);
+  EXPECT_NE(mask2, 0u);
+}
+
+TEST(KernelViewSelection, NeighbourPrior) {
+  const uint32_t masks[4] = {0b01, 0b01, 0b11, 0b00};
+  float prior[2];
+  NeighbourViewPrior(masks, 4, 2, ViewSelectionParams{}, prior);
+  EXPECT_FLOAT_EQ(prior[0], 0.9f * 3 + 0.1f);
+  EXPECT_FLOAT_EQ(prior[1], 0.9f + 0.1f * 3);
+}
+
+TEST(KernelRandom, DeterministicAndUniform) {
+  RandomStream a(7, 1, 100, 3), b(7, 1, 100, 3), c(7, 1, 101, 3);
+  double sum = 0;
+  int differ = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const float x = a.Uniform();
+    EXPECT_EQ(x, b.Uniform());
+    if (x != c.Uniform()) ++differ;
+    EXPECT_GE(x, 0.f);
+    EXPECT_LT(x, 1.f);
+    sum += x;
+  }
+  EXPECT_NEAR(sum / 10000, 0.5, 0.02);
+  EXPECT_GT(differ, 9900);
+}
+
+TEST(KernelHypotheses, RandomNormalsFaceTheCamera) {
+  RandomStream rng(3, 0, 0, 0);
+  const Vec3 ray{0.2f, -0.1f, 1.f};
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 n = RandomNormal(&rng, ray);
+    EXPECT_LT(Dot(n, ray), 0.f);
+    EXPECT_NEAR(Norm(n), 1.f, 1e-5f);
+  }
+}
+
+TEST(KernelPrior, ScoreFavoursThePriorPlane) {
+  PlanarPrior prior;
+  prior.sigma_depth = 0.05f;
+  const Vec3 ray{0.f, 0.f, 1.f};
+  const Plane prior_plane = PlaneFromDepthNormal(ray, 2.f, Vec3{0.f, 0.f, -1.f});
+  const Plane near_plane = PlaneFromDepthNormal(ray, 2.01f, Vec3{0.f, 0.f, -1.f});
+  const Plane far_plane = PlaneFromDepthNormal(ray, 2.5f, Normalize(Vec3{0.3f, 0.f, -1.f}));
+  // Same photometric cost: the plane agreeing with the prior wins.
+  EXPECT_GT(PriorScore(prior, 0.5f, near_plane, prior_plane, ray),
+            PriorScore(prior, 0.5f, far_plane, prior_plane, ray));
+  // Far from the prior only gamma remains; a much better photometric cost still wins.
+  EXPECT_NEAR(PriorScore(prior, 0.f, far_plane, prior_plane, ray), prior.gamma, 1e-4f);
+  EXPECT_GT(PriorScore(prior, 0.05f, far_plane, prior_plane, ray),
+            PriorScore(prior, 1.2f, near_plane, prior_plane, ray));
+}
+
+}  // namespace
+}  // namespace kernels
+}  // namespace mpmvs
