@@ -7,11 +7,18 @@
 #include <thread>
 #include <vector>
 
+#include "kernels/ncc_simd.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
 namespace kernels {
 namespace {
+
+#if defined(MPMVS_HAVE_SIMD_NCC)
+using CpuNcc = SimdNcc;
+#else
+using CpuNcc = ScalarNcc;
+#endif
 
 int ResolveThreads(int requested) {
   if (requested > 0) return requested;
@@ -77,7 +84,7 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
   params.rng_iteration = stage_base;
   result->init_ncc_evaluations = ParallelRows(H, threads, [&](int v, uint32_t* count) {
     for (int u = 0; u < W; ++u) {
-      InitializePixel(params, state, problem.init_plane, problem.init_cost, u, v, count);
+      InitializePixel<CpuNcc>(params, state, problem.init_plane, problem.init_cost, u, v, count);
     }
   });
 
@@ -93,7 +100,7 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
       params.color = color;
       params.rng_iteration = stage_base + static_cast<uint32_t>(1 + 2 * it + color);
       evaluations += ParallelRows(H, threads, [&](int v, uint32_t* count) {
-        for (int u = (v + color) & 1; u < W; u += 2) UpdatePixel(params, state, u, v, count);
+        for (int u = (v + color) & 1; u < W; u += 2) UpdatePixel<CpuNcc>(params, state, u, v, count);
       });
     }
     IterationStats stats;

@@ -20,6 +20,9 @@ struct ImageView {
 // Window of scale S: edge L = 2^S*10+1, 6x6 samples with spacing 2^(S+1) (radius 5*2^S).
 constexpr int kWindowSamplesPerAxis = 6;
 constexpr int kWindowSamples = kWindowSamplesPerAxis * kWindowSamplesPerAxis;
+// Sample arrays are padded with zero-weight samples at the centre to a multiple of 8 so a
+// vectorised CPU specialisation (ncc_simd.h) can run whole SIMD lanes.
+constexpr int kWindowSamplesPadded = 40;
 
 struct WindowSpec {
   int radius = 5;
@@ -58,8 +61,10 @@ MPMVS_HD MPMVS_FORCE_INLINE float SampleBilinear(const ImageView& img, float x, 
 // Reference patch statistics. Intensities are shifted by the centre value (NCC is offset
 // invariant) so the float moments do not cancel catastrophically on flat walls.
 struct RefPatch {
-  float weight[kWindowSamples];           // normalised to sum 1
-  float weighted_value[kWindowSamples];   // weight * (I_ref - centre)
+  float weight[kWindowSamplesPadded];          // normalised to sum 1; padding 0
+  float weighted_value[kWindowSamplesPadded];  // weight * (I_ref - centre); padding 0
+  float offset_x[kWindowSamplesPadded];        // sample offsets (padding 0)
+  float offset_y[kWindowSamplesPadded];
   float mean;                             // sum weight * (I_ref - centre)
   float variance;                         // weighted variance
   float centre;                           // I_ref(p)
@@ -83,9 +88,14 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
       const float w = expf(-dist * inv_spatial - fabsf(value) * inv_color);
       const int k = j * kWindowSamplesPerAxis + i;
       patch->weight[k] = w;
+      patch->offset_x[k] = static_cast<float>(dx);
+      patch->offset_y[k] = static_cast<float>(dy);
       values[k] = value;
       wsum += w;
     }
+  }
+  for (int k = kWindowSamples; k < kWindowSamplesPadded; ++k) {
+    patch->weight[k] = patch->weighted_value[k] = patch->offset_x[k] = patch->offset_y[k] = 0.f;
   }
   const float inv_wsum = 1.f / wsum;
   float mean = 0.f, sq = 0.f;
@@ -140,6 +150,15 @@ MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src
   const float cov = sum_rs - patch.mean * sum_s;
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }
+
+// The portable NCC used on the device and as the reference on the host.
+struct ScalarNcc {
+  MPMVS_HD MPMVS_FORCE_INLINE static float Cost(const RefPatch& patch, const ImageView& src,
+                                                const float H[9], int u, int v,
+                                                const WindowSpec& win) {
+    return ComputeNccCost(patch, src, H, u, v, win);
+  }
+};
 
 }  // namespace kernels
 }  // namespace mpmvs

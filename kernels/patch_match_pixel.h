@@ -106,6 +106,10 @@ MPMVS_HD MPMVS_FORCE_INLINE void StorePlane(float* planes, int idx, const Plane&
   p[3] = plane.d;
 }
 
+MPMVS_HD MPMVS_FORCE_INLINE bool SamePlane(const Plane& a, const Plane& b) {
+  return a.n.x == b.n.x && a.n.y == b.n.y && a.n.z == b.n.z && a.d == b.d;
+}
+
 MPMVS_HD MPMVS_FORCE_INLINE bool DepthInRange(const PassParams& params, float depth) {
   return depth >= params.depth_min && depth <= params.depth_max;
 }
@@ -136,13 +140,15 @@ MPMVS_HD inline float GeometricError(const PassParams& params, const SourceView&
   return Min(sqrtf(du * du + dv * dv), max_error);
 }
 
-// Per-view photometric cost of a plane in source view s.
+// Per-view photometric cost of a plane in source view s. Ncc is ScalarNcc (device,
+// reference) or a vectorised CPU specialisation with the same contract (ncc_simd.h).
+template <class Ncc>
 MPMVS_HD MPMVS_FORCE_INLINE float ViewPhotoCost(const PassParams& params, const RefPatch& patch,
                                                 int s, Vec3 m, int u, int v, uint32_t* num_ncc) {
   float H[9];
   PlaneHomography(params.sources[s].rel, m, H);
   ++*num_ncc;
-  return ComputeNccCost(patch, params.sources[s].image, H, u, v, params.window);
+  return Ncc::Cost(patch, params.sources[s].image, H, u, v, params.window);
 }
 
 struct WeightedCost {
@@ -152,6 +158,7 @@ struct WeightedCost {
 };
 
 // View-weighted cost of a plane (ALGORITHM.md §3 step 6, §7).
+template <class Ncc>
 MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPatch& patch,
                                            const float* weights, int u, int v, Vec3 ray,
                                            const Plane& plane, uint32_t* num_ncc) {
@@ -162,7 +169,7 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPa
     const float w = weights[s];
     if (w <= 0.f) continue;
     wsum += w;
-    photo += w * ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+    photo += w * ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
     if (params.geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
   }
   if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
@@ -191,6 +198,7 @@ MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float cost, const Pla
 
 // Costs of `plane` in every view; cost = mean of the top_k smallest valid ones, mask = views
 // at or below the k-th smallest (ALGORITHM.md §2).
+template <class Ncc>
 MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch, int u, int v,
                                  Vec3 ray, const Plane& plane, float* cost, float* photo_cost,
                                  float* geo_error, uint32_t* mask, uint32_t* num_ncc) {
@@ -199,7 +207,7 @@ MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch
   float photo[kMaxSourceViews], geo[kMaxSourceViews], total[kMaxSourceViews];
   int num_valid = 0;
   for (int s = 0; s < params.num_sources; ++s) {
-    photo[s] = ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+    photo[s] = ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
     geo[s] = params.geometric ? GeometricError(params, params.sources[s], u, v, ray, depth) : 0.f;
     total[s] = photo[s] + params.geom_lambda * geo[s];
     if (photo[s] < kInvalidCost) ++num_valid;
@@ -240,6 +248,7 @@ MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch
 // Initial hypothesis of pixel (u, v). init_plane (optional) holds planes from an earlier
 // stage (d = 0 means none); prior pixels whose earlier cost is >= 0.1 restart near the prior
 // plane (ACMP's initialisation of the prior run).
+template <class Ncc>
 MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState& state,
                                      const float* init_plane, const float* init_cost, int u,
                                      int v, uint32_t* num_ncc) {
@@ -272,13 +281,14 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
   StorePlane(state.plane, idx, plane);
   RefPatch patch;
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
-  InitialCost(params, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
+  InitialCost<Ncc>(params, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
               &state.geo_error[idx], &state.view_mask[idx], num_ncc);
 }
 
 // ---------------------------------------------------------------------------------------
 // Propagation + view selection + refinement of one pixel (one checkerboard pass).
 
+template <class Ncc>
 MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& state, int u, int v,
                                  uint32_t* num_ncc) {
   const int W = params.ref_camera.width, Hh = params.ref_camera.height;
@@ -315,14 +325,23 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   }
 
   // 2. Per-view photometric costs of the candidates (invalid regions: cost 2, left out).
+  // Propagation often brings the same plane from several regions: evaluate it once.
   float photo[kNumRegions * kMaxSourceViews];
   for (int r = 0; r < kNumRegions; ++r) {
     if (!valid[r]) {
       for (int s = 0; s < N; ++s) photo[r * N + s] = kInvalidCost;
       continue;
     }
+    int same = -1;
+    for (int q = 0; q < r && same < 0; ++q) {
+      if (valid[q] && SamePlane(candidates[q], candidates[r])) same = q;
+    }
+    if (same >= 0) {
+      for (int s = 0; s < N; ++s) photo[r * N + s] = photo[same * N + s];
+      continue;
+    }
     const Vec3 m = HomographyPlaneVector(params.ref_camera, candidates[r]);
-    for (int s = 0; s < N; ++s) photo[r * N + s] = ViewPhotoCost(params, patch, s, m, u, v, num_ncc);
+    for (int s = 0; s < N; ++s) photo[r * N + s] = ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
   }
 
   // 3. View selection with the neighbour prior.
@@ -339,10 +358,42 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   float wsum = 0.f;
   for (int s = 0; s < N; ++s) wsum += weights[s];
 
-  // 4. Weighted costs of the candidates and of the current plane.
+  // 4. Weighted costs of the candidates, then of the current plane (reused when a
+  // candidate is the current plane itself, which is common once a region has converged).
   Plane current = LoadPlane(state.plane, idx);
-  WeightedCost current_cost = EvaluatePlane(params, patch, weights, u, v, ray, current, num_ncc);
   uint32_t mask = state.view_mask[idx];
+  WeightedCost cand_cost[kNumRegions];
+  int current_row = -1;
+  for (int r = 0; r < kNumRegions; ++r) {
+    if (!valid[r]) continue;
+    int same = -1;
+    for (int q = 0; q < r && same < 0; ++q) {
+      if (valid[q] && SamePlane(candidates[q], candidates[r])) same = q;
+    }
+    if (same >= 0) {
+      cand_cost[r] = cand_cost[same];
+    } else {
+      WeightedCost c;
+      c.photo = 0.f;
+      for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
+      c.photo /= wsum;
+      c.geo = 0.f;
+      if (params.geometric) {
+        const float depth = PlaneDepth(candidates[r], ray);
+        for (int s = 0; s < N; ++s) {
+          if (weights[s] > 0.f)
+            c.geo += weights[s] * GeometricError(params, params.sources[s], u, v, ray, depth);
+        }
+        c.geo /= wsum;
+      }
+      c.total = c.photo + params.geom_lambda * c.geo;
+      cand_cost[r] = c;
+    }
+    if (current_row < 0 && SamePlane(candidates[r], current)) current_row = r;
+  }
+  WeightedCost current_cost = current_row >= 0
+                                  ? cand_cost[current_row]
+                                  : EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, current, num_ncc);
 
   const bool prior_pixel = params.use_prior && params.prior.label[idx];
   Plane prior_plane{};
@@ -357,20 +408,7 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   float best_score = 0.f;
   for (int r = 0; r < kNumRegions; ++r) {
     if (!valid[r]) continue;
-    WeightedCost c;
-    c.photo = 0.f;
-    for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
-    c.photo /= wsum;
-    c.geo = 0.f;
-    if (params.geometric) {
-      const float depth = PlaneDepth(candidates[r], ray);
-      for (int s = 0; s < N; ++s) {
-        if (weights[s] > 0.f)
-          c.geo += weights[s] * GeometricError(params, params.sources[s], u, v, ray, depth);
-      }
-      c.geo /= wsum;
-    }
-    c.total = c.photo + params.geom_lambda * c.geo;
+    const WeightedCost& c = cand_cost[r];
     if (prior_pixel) {
       const float score = PriorScore(params.prior, c.total, candidates[r], prior_plane, ray);
       if (best_r < 0 || score > best_score) {
@@ -417,7 +455,7 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   for (int i = 0; i < 5; ++i) {
     if (!DepthInRange(params, cand_depth[i])) continue;
     const Plane cand = PlaneFromDepthNormal(ray, cand_depth[i], cand_normal[i]);
-    const WeightedCost c = EvaluatePlane(params, patch, weights, u, v, ray, cand, num_ncc);
+    const WeightedCost c = EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, cand, num_ncc);
     if (prior_pixel) {
       const float score = PriorScore(params.prior, c.total, cand, prior_plane, ray);
       if (score > current_score) {

@@ -265,3 +265,40 @@ TEST(KernelPrior, ScoreFavoursThePriorPlane) {
 }  // namespace
 }  // namespace kernels
 }  // namespace mpmvs
+
+#include "kernels/ncc_simd.h"
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+#if defined(MPMVS_HAVE_SIMD_NCC)
+TEST(KernelNcc, SimdSpecialisationEqualsScalar) {
+  const int W = 96, H = 80;
+  std::vector<float> ref = RandomImage(W, H, 11), src = RandomImage(W, H, 12);
+  for (size_t i = 0; i < src.size(); ++i) src[i] = 0.5f * src[i] + 0.5f * ref[i];
+  const ImageView rv{ref.data(), W, H}, sv{src.data(), W, H};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
+  int compared = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const int u = 5 + trial % 85, v = 3 + (trial * 7) % 74;
+    const float H9[9] = {1.f + 0.1f * jitter(rng), 0.1f * jitter(rng), 3.f * jitter(rng),
+                         0.1f * jitter(rng), 1.f + 0.1f * jitter(rng), 3.f * jitter(rng),
+                         1e-3f * jitter(rng), 1e-3f * jitter(rng), 1.f};
+    for (int scale = 0; scale <= 2; ++scale) {
+      RefPatch patch;
+      ComputeRefPatch(rv, u, v, WindowForScale(scale), &patch);
+      const float a = ComputeNccCost(patch, sv, H9, u, v, WindowForScale(scale));
+      const float b = ComputeNccCostSimd(patch, sv, H9, u, v, WindowForScale(scale));
+      EXPECT_NEAR(a, b, 2e-4f) << "u=" << u << " v=" << v << " scale=" << scale;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 1500);
+}
+#endif
+
+}  // namespace
+}  // namespace kernels
+}  // namespace mpmvs
