@@ -73,7 +73,8 @@ std::vector<StereoProblem> ReadPatchMatchConfig(const std::string& cfg_path,
 
 // COLMAP's __auto__ selection: images sharing sparse points with ref whose 75th-percentile
 // triangulation angle is >= min angle, sorted by shared point count (desc, ties by index),
-// at most max_num.
+// at most max_num. As in COLMAP, a point counts once per pair of its track entries (an image
+// observing a point twice counts twice) and the percentile is 3.8's nearest rank.
 std::vector<int> SelectSourcesAuto(const DenseWorkspace& workspace, int ref, int max_num,
                                    double min_triangulation_angle_deg);
 

@@ -10,7 +10,8 @@
 
 namespace mpmvs {
 
-// Calls write(stream) on "path.tmp.<pid>" and renames it to path. Creates no directories.
+// Calls write(stream) on "path.tmp.<pid>.<n>" (n: per-process counter, so threads never
+// share a temporary) and renames it to path. Creates no directories.
 // On any failure the temporary is removed and Error is thrown naming path.
 void WriteFileAtomically(const std::string& path,
                          const std::function<void(std::ostream&)>& write);

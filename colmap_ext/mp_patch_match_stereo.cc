@@ -421,7 +421,24 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
                 std::to_string(100 * labelled / prior.label.size()) + "% of pixels covered");
       }
       backend_->Run(problem, stage.schedule, &result);
-      WriteFloatMap(state_path, ResultToState(result));
+      const FloatMap state = ResultToState(result);
+      WriteFloatMap(state_path, state);
+      if (run_.options.write_pictures) {
+        const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + view.name + "." + stage.name);
+        FloatMap stage_depth(view.width, view.height, 1);
+        stage_depth.data = StateDepth(state, problem.ref_camera, p.depth_min, p.depth_max);
+        WriteDepthPicture(base + ".depth.png", stage_depth, p.depth_min, p.depth_max);
+        if (stage.kind == StageKind::kPlanarPrior) {
+          FloatMap prior_depth(view.width, view.height, 1);
+          for (size_t i = 0; i < prior.label.size(); ++i) {
+            if (!prior.label[i]) continue;
+            const kernels::Plane pl{{prior.plane[4 * i], prior.plane[4 * i + 1], prior.plane[4 * i + 2]}, prior.plane[4 * i + 3]};
+            prior_depth.data[i] = kernels::PlaneDepth(
+                pl, kernels::PixelRay(problem.ref_camera, float(i % view.width), float(i / view.width)));
+          }
+          WriteDepthPicture(base + ".prior_model.png", prior_depth, p.depth_min, p.depth_max);
+        }
+      }
       ++stage_summary.images_computed;
       stage_summary.ncc_evaluations += result.init_ncc_evaluations;
       for (const auto& it : result.iterations) stage_summary.ncc_evaluations += it.ncc_evaluations;

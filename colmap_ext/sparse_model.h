@@ -69,6 +69,10 @@ struct SparseModel {
 // (COLMAP's rule). Throws Error naming the offending file on anything missing, truncated or
 // corrupt (absurd counts are rejected before allocating).
 SparseModel ReadSparseModel(const std::string& dir);
+// True when dir holds all three .bin files (then ReadSparseModel reads those).
+bool HasBinarySparseModel(const std::string& dir);
+// dir/stem.bin or dir/stem.txt, whichever ReadSparseModel reads (for error messages).
+std::string SparseModelFilePath(const std::string& dir, const std::string& stem);
 SparseModel ReadSparseModelBinary(const std::string& dir);
 SparseModel ReadSparseModelText(const std::string& dir);
 

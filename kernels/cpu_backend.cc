@@ -61,15 +61,7 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
   const std::vector<SourceView> sources = MakeSourceViews(problem);
   PassParams params = MakePassParams(problem, schedule, sources.data());
   const int W = problem.ref_camera.width, H = problem.ref_camera.height;
-  const size_t n = static_cast<size_t>(W) * H;
-  result->width = W;
-  result->height = H;
-  result->plane.assign(4 * n, 0.f);
-  result->cost.assign(n, kInvalidCost);
-  result->photo_cost.assign(n, kInvalidCost);
-  result->geo_error.assign(n, 0.f);
-  result->view_mask.assign(n, 0u);
-  result->iterations.clear();
+  ResetResult(W, H, result);
   PixelState state;
   state.plane = result->plane.data();
   state.cost = result->cost.data();
@@ -78,10 +70,7 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
   state.view_mask = result->view_mask.data();
   const int threads = ResolveThreads(schedule.num_threads);
 
-  // Random streams: stage id in the high bits, pass number in the low bits.
-  const uint32_t stage_base = schedule.stage_id << 16;
-  params.window = WindowForScale(schedule.iterations.front().window_scale);
-  params.rng_iteration = stage_base;
+  SetInitPass(schedule, &params);
   result->init_ncc_evaluations = ParallelRows(H, threads, [&](int v, uint32_t* count) {
     for (int u = 0; u < W; ++u) {
       InitializePixel<CpuNcc>(params, state, problem.init_plane, problem.init_cost, u, v, count);
@@ -90,28 +79,19 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
 
   const int total = static_cast<int>(schedule.iterations.size());
   for (int it = 0; it < total; ++it) {
-    const IterationSpec& spec = schedule.iterations[it];
     const auto start = std::chrono::steady_clock::now();
-    params.window = WindowForScale(spec.window_scale);
-    params.view_selection.good_threshold =
-        GoodMatchThreshold(spec.tau_index, schedule.tau0, schedule.tau_alpha);
     uint64_t evaluations = 0;
     for (int color = 0; color < 2; ++color) {
-      params.color = color;
-      params.rng_iteration = stage_base + static_cast<uint32_t>(1 + 2 * it + color);
+      SetCheckerboardPass(schedule, it, color, &params);
       evaluations += ParallelRows(H, threads, [&](int v, uint32_t* count) {
-        for (int u = (v + color) & 1; u < W; u += 2) UpdatePixel<CpuNcc>(params, state, u, v, count);
+        for (int u = CheckerboardRowBegin(v, color); u < W; u += 2) {
+          UpdatePixel<CpuNcc>(params, state, u, v, count);
+        }
       });
     }
-    IterationStats stats;
-    stats.window_scale = spec.window_scale;
-    stats.window_side = WindowSide(params.window);
-    stats.pattern = schedule.pattern;
-    stats.tau = params.view_selection.good_threshold;
-    stats.ncc_evaluations = evaluations;
-    stats.seconds =
+    const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    result->iterations.push_back(stats);
+    result->iterations.push_back(MakeIterationStats(schedule, it, evaluations, seconds));
     if (progress) progress(it + 1, total);
   }
 }

@@ -79,13 +79,16 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   float values[kWindowSamples];
   for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
     const int dy = WindowOffset(win, j);
-    const int y = MinI(MaxI(v + dy, 0), ref.height - 1);
+    const int y = v + dy;
     for (int i = 0; i < kWindowSamplesPerAxis; ++i) {
       const int dx = WindowOffset(win, i);
-      const int x = MinI(MaxI(u + dx, 0), ref.width - 1);
-      const float value = ref.data[static_cast<long>(y) * ref.width + x] - centre;
+      const int x = u + dx;
+      // Samples outside the reference image take no part (weight 0) instead of repeating
+      // the border, which would compare invented texture with the source's real one.
+      const bool inside = x >= 0 && y >= 0 && x < ref.width && y < ref.height;
+      const float value = inside ? ref.data[static_cast<long>(y) * ref.width + x] - centre : 0.f;
       const float dist = sqrtf(static_cast<float>(dx * dx + dy * dy));
-      const float w = expf(-dist * inv_spatial - fabsf(value) * inv_color);
+      const float w = inside ? expf(-dist * inv_spatial - fabsf(value) * inv_color) : 0.f;
       const int k = j * kWindowSamplesPerAxis + i;
       patch->weight[k] = w;
       patch->offset_x[k] = static_cast<float>(dx);

@@ -71,6 +71,55 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
   return p;
 }
 
+namespace {
+// Random streams: stage id in the high 16 bits, pass number in the low bits (0 = init).
+uint32_t PassStream(const PatchMatchSchedule& schedule, uint32_t pass) {
+  return (schedule.stage_id << 16) + pass;
+}
+}  // namespace
+
+void SetInitPass(const PatchMatchSchedule& schedule, PassParams* params) {
+  params->window = WindowForScale(schedule.iterations.front().window_scale);
+  params->color = 0;
+  params->rng_iteration = PassStream(schedule, 0);
+}
+
+void SetCheckerboardPass(const PatchMatchSchedule& schedule, int iteration, int color,
+                         PassParams* params) {
+  const IterationSpec& spec = schedule.iterations[iteration];
+  params->window = WindowForScale(spec.window_scale);
+  params->view_selection.good_threshold =
+      GoodMatchThreshold(spec.tau_index, schedule.tau0, schedule.tau_alpha);
+  params->color = color;
+  params->rng_iteration = PassStream(schedule, static_cast<uint32_t>(1 + 2 * iteration + color));
+}
+
+IterationStats MakeIterationStats(const PatchMatchSchedule& schedule, int iteration,
+                                  uint64_t ncc_evaluations, double seconds) {
+  const IterationSpec& spec = schedule.iterations[iteration];
+  IterationStats stats;
+  stats.window_scale = spec.window_scale;
+  stats.window_side = WindowSide(WindowForScale(spec.window_scale));
+  stats.pattern = schedule.pattern;
+  stats.tau = GoodMatchThreshold(spec.tau_index, schedule.tau0, schedule.tau_alpha);
+  stats.ncc_evaluations = ncc_evaluations;
+  stats.seconds = seconds;
+  return stats;
+}
+
+void ResetResult(int width, int height, PatchMatchResult* result) {
+  const StateLayout layout = MakeStateLayout(width, height);
+  result->width = width;
+  result->height = height;
+  result->plane.assign(layout.plane_floats, 0.f);
+  result->cost.assign(layout.cost_floats, kInvalidCost);
+  result->photo_cost.assign(layout.cost_floats, kInvalidCost);
+  result->geo_error.assign(layout.cost_floats, 0.f);
+  result->view_mask.assign(layout.mask_words, 0u);
+  result->init_ncc_evaluations = 0;
+  result->iterations.clear();
+}
+
 void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchResult& result,
                             std::vector<float>* depth, std::vector<float>* normal) {
   const int W = result.width, H = result.height;
@@ -96,9 +145,13 @@ void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchRe
   }
 }
 
+// Builds without CUDA (no nvcc, or -DMPMVS_ENABLE_CUDA=OFF); otherwise cuda_backend.cu.
 #if !defined(MPMVS_WITH_CUDA)
 bool CudaDeviceAvailable(int, std::string* why) {
-  if (why) *why = "this build of mp-mvs has no CUDA backend (nvcc was not found at build time)";
+  if (why) {
+    *why = "this build of mp-mvs has no CUDA backend (nvcc not found at build time or "
+           "-DMPMVS_ENABLE_CUDA=OFF)";
+  }
   return false;
 }
 

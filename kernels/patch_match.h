@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/launch_layout.h"
 #include "kernels/patch_match_pixel.h"
 
 namespace mpmvs {
@@ -100,6 +101,19 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
                           const SourceView* sources);
 // SourceViews (with relative poses) for a problem.
 std::vector<SourceView> MakeSourceViews(const PatchMatchProblem& problem);
+
+// Pass setup shared by both backends, so they draw the same random streams and use the same
+// window and good-match threshold in every pass. The initialisation pass uses the window
+// of the first iteration.
+void SetInitPass(const PatchMatchSchedule& schedule, PassParams* params);
+// Checkerboard pass `color` (0 = black, 1 = red; black runs first) of iteration `iteration`.
+void SetCheckerboardPass(const PatchMatchSchedule& schedule, int iteration, int color,
+                         PassParams* params);
+IterationStats MakeIterationStats(const PatchMatchSchedule& schedule, int iteration,
+                                  uint64_t ncc_evaluations, double seconds);
+// Sizes result's buffers for a width x height reference image (StateLayout of
+// launch_layout.h) with the values before initialisation; clears the statistics.
+void ResetResult(int width, int height, PatchMatchResult* result);
 
 }  // namespace kernels
 }  // namespace mpmvs

@@ -1,0 +1,13 @@
+#pragma once
+// Naming of ground-truth files beside a dataset (EVALUATION.md): gt/depth_<stem>.pfm and
+// gt/untextured_<stem>.png, where <stem> is the image name without folders and extension.
+#include <string>
+
+namespace mpmvs {
+
+// "a/b/view_00.png" -> "view_00"; a name without extension is kept whole.
+std::string ImageStem(const std::string& image_name);
+std::string GtDepthPath(const std::string& gt_dir, const std::string& image_name);
+std::string GtUntexturedMaskPath(const std::string& gt_dir, const std::string& image_name);
+
+}  // namespace mpmvs

@@ -1,0 +1,388 @@
+// The CUDA backend: its thread -> pixel mapping and pass sequence (checked on the CPU, so
+// they are tested on machines without a GPU), device detection, and GPU vs CPU results
+// (skipped without a CUDA device).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "kernels/launch_layout.h"
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Launch layout
+
+// Runs fn(u, v) for every thread of `layout` that maps to a pixel, as a CUDA launch would.
+template <typename Map, typename Fn>
+void ForEachThread(const LaunchLayout& layout, const Map& map, const Fn& fn) {
+  for (int by = 0; by < layout.grid.y; ++by) {
+    for (int bx = 0; bx < layout.grid.x; ++bx) {
+      for (int ty = 0; ty < layout.block.y; ++ty) {
+        for (int tx = 0; tx < layout.block.x; ++tx) {
+          int u = -1, v = -1;
+          if (map(Dim2{bx, by}, layout.block, Dim2{tx, ty}, &u, &v)) fn(u, v);
+        }
+      }
+    }
+  }
+}
+
+const int kSizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 5}, {16, 8}, {17, 9},
+                         {31, 33}, {32, 16}, {33, 17}, {64, 48}, {161, 121}};
+
+TEST(CudaLaunchLayout, CheckerboardCoversEveryPixelOfOneColourOnce) {
+  for (const auto& size : kSizes) {
+    const int W = size[0], H = size[1];
+    const LaunchLayout layout = CheckerboardLaunchLayout(W, H);
+    EXPECT_EQ((layout.block.x * layout.block.y) % 32, 0) << "blocks must be whole warps";
+    for (int color = 0; color < 2; ++color) {
+      SCOPED_TRACE(std::to_string(W) + "x" + std::to_string(H) + " colour " + std::to_string(color));
+      std::vector<int> hits(static_cast<size_t>(W) * H, 0);
+      bool in_range = true;
+      ForEachThread(
+          layout,
+          [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
+            return CheckerboardThreadPixel(W, H, color, b, bd, t, u, v);
+          },
+          [&](int u, int v) {
+            if (u < 0 || v < 0 || u >= W || v >= H) {
+              in_range = false;
+              return;
+            }
+            ++hits[static_cast<size_t>(v) * W + u];
+          });
+      ASSERT_TRUE(in_range);
+      int covered = 0;
+      for (int v = 0; v < H; ++v) {
+        for (int u = 0; u < W; ++u) {
+          const int n = hits[static_cast<size_t>(v) * W + u];
+          if (PixelColor(u, v) == color) {
+            EXPECT_EQ(n, 1) << "pixel " << u << "," << v;
+            ++covered;
+          } else {
+            EXPECT_EQ(n, 0) << "pixel " << u << "," << v << " has the other colour";
+          }
+        }
+      }
+      // The CPU backend's row loop visits the same pixels.
+      int row_loop = 0;
+      for (int v = 0; v < H; ++v) {
+        for (int u = CheckerboardRowBegin(v, color); u < W; u += 2) {
+          EXPECT_EQ(PixelColor(u, v), color);
+          ++row_loop;
+        }
+      }
+      EXPECT_EQ(row_loop, covered);
+    }
+  }
+}
+
+TEST(CudaLaunchLayout, ImageLayoutCoversEveryPixelOnce) {
+  for (const auto& size : kSizes) {
+    const int W = size[0], H = size[1];
+    SCOPED_TRACE(std::to_string(W) + "x" + std::to_string(H));
+    std::vector<int> hits(static_cast<size_t>(W) * H, 0);
+    ForEachThread(
+        ImageLaunchLayout(W, H),
+        [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) { return ImageThreadPixel(W, H, b, bd, t, u, v); },
+        [&](int u, int v) {
+          ASSERT_TRUE(u >= 0 && v >= 0 && u < W && v < H);
+          ++hits[static_cast<size_t>(v) * W + u];
+        });
+    for (int n : hits) ASSERT_EQ(n, 1);
+  }
+}
+
+TEST(CudaLaunchLayout, StateLayoutMatchesPlaneIndexing) {
+  const StateLayout layout = MakeStateLayout(7, 5);
+  EXPECT_EQ(layout.num_pixels, 35u);
+  EXPECT_EQ(layout.plane_floats, 4u * 35u);
+  EXPECT_EQ(layout.cost_floats, 35u);
+  EXPECT_EQ(layout.mask_words, 35u);
+  EXPECT_EQ(MakeStateLayout(0, 5).num_pixels, 0u);
+  // StorePlane (the per-pixel math) writes exactly the layout's slot of the last pixel.
+  std::vector<float> planes(layout.plane_floats + 1, -7.f);
+  StorePlane(planes.data(), 34, Plane{Vec3{1.f, 2.f, 3.f}, 4.f});
+  EXPECT_EQ(planes[kPlaneFloatsPerPixel * 34], 1.f);
+  EXPECT_EQ(planes[layout.plane_floats - 1], 4.f);
+  EXPECT_EQ(planes[layout.plane_floats], -7.f);
+
+  PatchMatchResult result;
+  ResetResult(7, 5, &result);
+  EXPECT_EQ(result.plane.size(), layout.plane_floats);
+  EXPECT_EQ(result.cost.size(), layout.cost_floats);
+  EXPECT_EQ(result.view_mask.size(), layout.mask_words);
+}
+
+TEST(CudaLaunchLayout, PassParamsFitTheKernelParameterLimit) {
+  // Passed by value to every kernel (4 KB parameter limit); cuda_backend.cu asserts it too.
+  EXPECT_LE(sizeof(PassParams) + sizeof(PixelState) + 32, 4096u);
+}
+
+// ---------------------------------------------------------------------------------------
+// A small analytic scene: a textured plane tilted against all cameras. Wide baselines and
+// a fine texture make the cost minimum sharp, so converged depths agree to well below 0.1 %
+// even after float rounding flipped a decision somewhere; the sources have a wider field of
+// view than the reference so every reference pixel is seen by both.
+
+struct TestScene {
+  Vec3 plane_point{0.f, 0.f, 3.f};
+  Vec3 plane_normal = Normalize(Vec3{0.4f, -0.45f, -1.f});  // world frame
+  std::vector<Camera> cameras;
+  std::vector<std::vector<float>> images;
+};
+
+float PlaneTexture(float a, float b) {
+  return 128.f + 40.f * std::sin(10.f * a) * std::cos(8.f * b) + 30.f * std::sin(24.f * a + 18.f * b) +
+         20.f * std::cos(42.f * b - 32.f * a) + 15.f * std::sin(66.f * a) * std::sin(58.f * b);
+}
+
+Camera LookAtCamera(int W, int H, float focal, Vec3 centre, Vec3 target) {
+  Camera cam;
+  cam.width = W;
+  cam.height = H;
+  cam.fx = cam.fy = focal * W;
+  cam.cx = W / 2.f - 0.3f;
+  cam.cy = H / 2.f + 0.2f;
+  const Vec3 z = Normalize(target - centre);
+  const Vec3 x = Normalize(Cross(z, Vec3{0.05f, 1.f, 0.f}));
+  const Vec3 y = Cross(z, x);
+  const float R[9] = {x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z};
+  for (int i = 0; i < 9; ++i) cam.R[i] = R[i];
+  const Vec3 t = -MatVec(cam.R, centre);
+  cam.t[0] = t.x, cam.t[1] = t.y, cam.t[2] = t.z;
+  return cam;
+}
+
+TestScene MakeTiltedPlaneScene(int W, int H) {
+  TestScene scene;
+  const Vec3 axis_u = Normalize(Cross(scene.plane_normal, Vec3{0.f, 1.f, 0.f}));
+  const Vec3 axis_v = Cross(scene.plane_normal, axis_u);
+  scene.cameras.push_back(LookAtCamera(W, H, 2.0f, Vec3{0.f, 0.f, 0.f}, scene.plane_point));
+  scene.cameras.push_back(LookAtCamera(W, H, 1.0f, Vec3{1.2f, 0.24f, 0.1f}, scene.plane_point));
+  scene.cameras.push_back(LookAtCamera(W, H, 1.0f, Vec3{-0.84f, -1.08f, 0.05f}, scene.plane_point));
+  for (const Camera& cam : scene.cameras) {
+    const Vec3 C = -MatTVec(cam.R, Vec3{cam.t[0], cam.t[1], cam.t[2]});
+    std::vector<float> img(static_cast<size_t>(W) * H);
+    for (int v = 0; v < H; ++v) {
+      for (int u = 0; u < W; ++u) {
+        float acc = 0.f;  // 2x2 supersampling
+        for (int s = 0; s < 4; ++s) {
+          const Vec3 dir = MatTVec(cam.R, PixelRay(cam, u - 0.25f + 0.5f * (s & 1), v - 0.25f + 0.5f * (s >> 1)));
+          const float lambda = Dot(scene.plane_point - C, scene.plane_normal) / Dot(dir, scene.plane_normal);
+          const Vec3 X = C + lambda * dir - scene.plane_point;
+          acc += PlaneTexture(Dot(X, axis_u), Dot(X, axis_v));
+        }
+        img[static_cast<size_t>(v) * W + u] = 0.25f * acc;
+      }
+    }
+    scene.images.push_back(std::move(img));
+  }
+  return scene;
+}
+
+// Fraction of reference pixels whose depth is within 0.5 % of the true plane.
+double GroundTruthAgreement(const TestScene& scene, const PatchMatchProblem& problem,
+                            const PatchMatchResult& result) {
+  std::vector<float> depth, normal;
+  ExtractDepthNormalMaps(problem, result, &depth, &normal);
+  const Camera& cam = scene.cameras[0];
+  const Vec3 n_cam = MatVec(cam.R, scene.plane_normal);
+  const Vec3 p_cam = MatVec(cam.R, scene.plane_point) + Vec3{cam.t[0], cam.t[1], cam.t[2]};
+  size_t good = 0;
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      const float z = Dot(p_cam, n_cam) / Dot(PixelRay(cam, float(u), float(v)), n_cam);
+      if (std::abs(depth[static_cast<size_t>(v) * cam.width + u] - z) < 0.005f * z) ++good;
+    }
+  }
+  return depth.empty() ? 0.0 : static_cast<double>(good) / depth.size();
+}
+
+PatchMatchProblem MakeSceneProblem(const TestScene& scene) {
+  PatchMatchProblem problem;
+  problem.image_id = 3;
+  problem.ref_camera = scene.cameras[0];
+  problem.ref_image = ImageView{scene.images[0].data(), scene.cameras[0].width, scene.cameras[0].height};
+  for (size_t s = 1; s < scene.cameras.size(); ++s) {
+    PatchMatchSource src;
+    src.camera = scene.cameras[s];
+    src.image = ImageView{scene.images[s].data(), scene.cameras[s].width, scene.cameras[s].height};
+    problem.sources.push_back(src);
+  }
+  problem.depth_min = 2.f;
+  problem.depth_max = 8.f;
+  return problem;
+}
+
+PatchMatchSchedule MakeSchedule() {
+  PatchMatchSchedule schedule;
+  for (int scale = 1; scale >= 0; --scale) {
+    for (int t = 0; t < 4; ++t) schedule.iterations.push_back({scale, t});
+  }
+  schedule.seed = 7;
+  schedule.stage_id = 1;
+  return schedule;
+}
+
+// Fraction of pixels whose depth is within `tolerance` (relative) of the reference result;
+// pixels without a depth in both count as agreeing.
+double DepthAgreement(const PatchMatchProblem& problem, const PatchMatchResult& a,
+                      const PatchMatchResult& b, float tolerance) {
+  std::vector<float> da, db, normal;
+  ExtractDepthNormalMaps(problem, a, &da, &normal);
+  ExtractDepthNormalMaps(problem, b, &db, &normal);
+  if (da.empty() || da.size() != db.size()) return 0.0;
+  size_t agree = 0;
+  for (size_t i = 0; i < da.size(); ++i) {
+    if (da[i] == 0.f && db[i] == 0.f) {
+      ++agree;
+    } else if (da[i] > 0.f && std::abs(db[i] - da[i]) <= tolerance * da[i]) {
+      ++agree;
+    }
+  }
+  return static_cast<double>(agree) / da.size();
+}
+
+void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& other) {
+  ASSERT_EQ(other.iterations.size(), cpu.iterations.size());
+  for (size_t i = 0; i < cpu.iterations.size(); ++i) {
+    EXPECT_EQ(other.iterations[i].window_scale, cpu.iterations[i].window_scale);
+    EXPECT_EQ(other.iterations[i].window_side, cpu.iterations[i].window_side);
+    EXPECT_EQ(other.iterations[i].pattern, cpu.iterations[i].pattern);
+    EXPECT_EQ(other.iterations[i].tau, cpu.iterations[i].tau);
+    // Float rounding may flip a few decisions (e.g. reuse of a duplicate candidate's cost).
+    const double n = static_cast<double>(cpu.iterations[i].ncc_evaluations);
+    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.02 * n) << "iteration " << i;
+  }
+  EXPECT_EQ(other.init_ncc_evaluations, cpu.init_ncc_evaluations);  // no decisions in init
+}
+
+// The CUDA backend's pass sequence executed on the CPU: the launch layouts, the shared pass
+// setup and the ScalarNcc the device uses. Tests everything but the CUDA API calls, and
+// shows that ScalarNcc vs the CPU backend's NCC (different rounding, like the GPU's) stays
+// within the tolerance the GPU test asks for.
+void RunCudaPassesOnHost(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+                         PatchMatchResult* result) {
+  schedule.Check();
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  PassParams params = MakePassParams(problem, schedule, sources.data());
+  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
+  ResetResult(W, H, result);
+  PixelState state{result->plane.data(), result->cost.data(), result->photo_cost.data(),
+                   result->geo_error.data(), result->view_mask.data()};
+  SetInitPass(schedule, &params);
+  uint32_t count = 0;
+  ForEachThread(
+      ImageLaunchLayout(W, H),
+      [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) { return ImageThreadPixel(W, H, b, bd, t, u, v); },
+      [&](int u, int v) {
+        InitializePixel<ScalarNcc>(params, state, problem.init_plane, problem.init_cost, u, v, &count);
+      });
+  result->init_ncc_evaluations = count;
+  const LaunchLayout layout = CheckerboardLaunchLayout(W, H);
+  for (int it = 0; it < static_cast<int>(schedule.iterations.size()); ++it) {
+    count = 0;
+    for (int color = 0; color < 2; ++color) {
+      SetCheckerboardPass(schedule, it, color, &params);
+      ForEachThread(
+          layout,
+          [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
+            return CheckerboardThreadPixel(W, H, params.color, b, bd, t, u, v);
+          },
+          [&](int u, int v) { UpdatePixel<ScalarNcc>(params, state, u, v, &count); });
+    }
+    result->iterations.push_back(MakeIterationStats(schedule, it, count, 0.0));
+  }
+}
+
+// Shared by the emulated and the real GPU comparison.
+constexpr float kDepthTolerance = 0.001f;  // 0.1 %
+constexpr double kMinAgreement = 0.99;
+
+TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
+  const TestScene scene = MakeTiltedPlaneScene(128, 96);
+  const PatchMatchProblem problem = MakeSceneProblem(scene);
+  const PatchMatchSchedule schedule = MakeSchedule();
+  PatchMatchResult cpu, emulated;
+  RunPatchMatchCpu(problem, schedule, &cpu);
+  // The comparison means something only if the CPU result is right.
+  EXPECT_GE(GroundTruthAgreement(scene, problem, cpu), 0.98);
+  RunCudaPassesOnHost(problem, schedule, &emulated);
+  const double agreement = DepthAgreement(problem, cpu, emulated, kDepthTolerance);
+  std::printf("host-emulated CUDA passes vs CPU backend: %.2f%% of depths within 0.1%%\n", 100 * agreement);
+  EXPECT_GE(agreement, kMinAgreement);
+  ExpectSameStatistics(cpu, emulated);
+}
+
+// ---------------------------------------------------------------------------------------
+// Device
+
+TEST(CudaDevice, AvailabilityComesWithAReason) {
+  std::string why = "unset";
+  if (CudaDeviceAvailable(0, &why)) {
+    std::printf("CUDA device 0 is available\n");
+  } else {
+    std::printf("no CUDA device: %s\n", why.c_str());
+    EXPECT_FALSE(why.empty());
+    EXPECT_NE(why, "unset");
+  }
+  // Invalid indices are never available, with or without a GPU.
+  for (int index : {-1, 1 << 20}) {
+    why.clear();
+    EXPECT_FALSE(CudaDeviceAvailable(index, &why)) << index;
+    EXPECT_FALSE(why.empty()) << index;
+  }
+  EXPECT_FALSE(CudaDeviceAvailable(-1, nullptr));  // the reason is optional
+}
+
+TEST(CudaDevice, RunWithoutDeviceThrows) {
+  std::string why;
+  if (CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "a CUDA device is present";
+  const TestScene scene = MakeTiltedPlaneScene(16, 12);
+  PatchMatchResult result;
+  try {
+    RunPatchMatchCuda(MakeSceneProblem(scene), MakeSchedule(), 0, &result);
+    FAIL() << "RunPatchMatchCuda ran without a CUDA device";
+  } catch (const std::runtime_error& e) {
+    EXPECT_FALSE(std::string(e.what()).empty());
+  }
+}
+
+TEST(CudaBackend, MatchesCpuBackendOnTiltedPlane) {
+  std::string why;
+  if (!CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "no usable CUDA device: " << why;
+  const TestScene scene = MakeTiltedPlaneScene(128, 96);
+  const PatchMatchProblem problem = MakeSceneProblem(scene);
+  const PatchMatchSchedule schedule = MakeSchedule();
+  PatchMatchResult cpu, gpu;
+  RunPatchMatchCpu(problem, schedule, &cpu);
+  std::vector<int> progress;
+  RunPatchMatchCuda(problem, schedule, 0, &gpu, [&](int done, int total) {
+    EXPECT_EQ(total, static_cast<int>(schedule.iterations.size()));
+    progress.push_back(done);
+  });
+  ASSERT_EQ(gpu.width, cpu.width);
+  ASSERT_EQ(gpu.height, cpu.height);
+  ASSERT_EQ(gpu.plane.size(), cpu.plane.size());
+  ASSERT_EQ(gpu.view_mask.size(), cpu.view_mask.size());
+  ASSERT_EQ(progress.size(), schedule.iterations.size());
+  for (size_t i = 0; i < progress.size(); ++i) EXPECT_EQ(progress[i], static_cast<int>(i + 1));
+  const double agreement = DepthAgreement(problem, cpu, gpu, kDepthTolerance);
+  std::printf("CUDA vs CPU backend: %.2f%% of depths within 0.1%%\n", 100 * agreement);
+  EXPECT_GE(agreement, kMinAgreement);
+  EXPECT_GE(GroundTruthAgreement(scene, problem, gpu), 0.98);
+  ExpectSameStatistics(cpu, gpu);
+  for (const IterationStats& stats : gpu.iterations) EXPECT_GE(stats.seconds, 0.0);
+}
+
+}  // namespace
+}  // namespace kernels
+}  // namespace mpmvs

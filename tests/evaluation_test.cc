@@ -1,0 +1,359 @@
+// Evaluation (EVALUATION.md): depth-map scores with known fractions of wrong pixels,
+// point-cloud scores with known shifts/removals, GT against itself, PLY I/O, the
+// agreement of workspaces without GT and the evaluate/compare commands end to end.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "colmap_ext/error.h"
+#include "colmap_ext/evaluation.h"
+#include "colmap_ext/evaluation_report.h"
+#include "colmap_ext/file_util.h"
+#include "colmap_ext/mat_io.h"
+#include "colmap_ext/ply_io.h"
+#include "colmap_ext/scene_commands.h"
+#include "colmap_ext/synthetic_scene.h"
+#include "tests/test_util.h"
+
+namespace mpmvs {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A camera at the origin looking down +z at a fronto-parallel plane z = depth.
+GtView PlaneGtView(int width, int height, double f, float depth) {
+  GtView v;
+  v.name = "plane.png";
+  v.fx = v.fy = f;
+  v.cx = 0.5 * width;
+  v.cy = 0.5 * height;
+  v.depth.width = width;
+  v.depth.height = height;
+  v.depth.data.assign(static_cast<size_t>(width) * height, depth);
+  return v;
+}
+
+SyntheticSceneOptions TinyScene() {
+  SyntheticSceneOptions o;
+  o.scene = "indoor";
+  o.width = 160;
+  o.height = 120;
+  o.num_views = 3;
+  o.supersampling = 2;
+  return o;
+}
+
+// Copies the GT maps into the workspace as if a perfect method had produced them.
+void InstallGtAsEstimates(const std::string& dir, const SyntheticScene& scene) {
+  for (const SyntheticView& v : scene.views) {
+    fs::copy_file(dir + "/gt/depth_maps/" + v.name + ".bin",
+                  dir + "/stereo/depth_maps/" + v.name + ".geometric.bin",
+                  fs::copy_options::overwrite_existing);
+    fs::copy_file(dir + "/gt/normal_maps/" + v.name + ".bin",
+                  dir + "/stereo/normal_maps/" + v.name + ".geometric.bin",
+                  fs::copy_options::overwrite_existing);
+  }
+}
+
+TEST(Evaluation, DepthMapsWithKnownFractionWrong) {
+  // 10 x 10 GT at 2 m; 10 pixels without GT. Of the 90 with GT: 50 exact, 20 off by
+  // 1.5 % (good at 2 % only), 10 off by 10 %, 10 without estimate.
+  GtView gt = PlaneGtView(10, 10, 10, 2.0f);
+  gt.untextured.assign(100, 0);
+  FloatMap est(10, 10, 1, 0.f);
+  int expected_untextured_gt = 0, expected_untextured_est = 0, expected_untextured_good1 = 0;
+  for (int i = 0; i < 100; ++i) {
+    const int r = i / 10, c = i % 10;
+    if (i < 10) {
+      gt.depth.data[i] = 0;  // no GT; a (wrong) estimate there must not count
+      est.At(r, c) = 5.f;
+      continue;
+    }
+    const int k = i - 10;  // 0..89
+    if (k < 50) est.At(r, c) = 2.0f;
+    else if (k < 70) est.At(r, c) = 2.0f * 1.015f;
+    else if (k < 80) est.At(r, c) = 2.0f * 1.10f;
+    // else: no estimate
+    if (k % 3 == 0) {  // every third GT pixel is "untextured"
+      gt.untextured[i] = 1;
+      ++expected_untextured_gt;
+      if (k < 80) ++expected_untextured_est;
+      if (k < 50) ++expected_untextured_good1;
+    }
+  }
+  const DepthImageScore s = ScoreDepthMap(est, gt, {0.01, 0.02});
+  EXPECT_EQ(s.all.num_gt, 90);
+  EXPECT_EQ(s.all.num_estimated, 80);
+  ASSERT_EQ(s.all.at.size(), 2u);
+  EXPECT_EQ(s.all.at[0].num_good, 50);
+  EXPECT_NEAR(s.all.at[0].accuracy, 50.0 / 80, 1e-12);
+  EXPECT_NEAR(s.all.at[0].completeness, 50.0 / 90, 1e-12);
+  EXPECT_NEAR(s.all.at[0].f1, 2 * (50.0 / 80) * (50.0 / 90) / (50.0 / 80 + 50.0 / 90), 1e-12);
+  EXPECT_EQ(s.all.at[1].num_good, 70);
+  EXPECT_NEAR(s.all.at[1].accuracy, 70.0 / 80, 1e-12);
+  EXPECT_NEAR(s.all.at[1].completeness, 70.0 / 90, 1e-12);
+  EXPECT_NEAR(s.all.median_rel_error, 0.0, 1e-12);  // 50 of 80 are exact
+  EXPECT_TRUE(s.has_mask);
+  EXPECT_EQ(s.untextured.num_gt, expected_untextured_gt);
+  EXPECT_EQ(s.untextured.num_estimated, expected_untextured_est);
+  EXPECT_EQ(s.untextured.at[0].num_good, expected_untextured_good1);
+
+  // Pooled over two images = the sums; a missing map counts as no estimate at all.
+  const DepthEvaluation e = EvaluateDepthMaps({gt, gt}, {est, FloatMap()}, {0.01, 0.02});
+  EXPECT_EQ(e.pooled.num_gt, 180);
+  EXPECT_EQ(e.pooled.num_estimated, 80);
+  EXPECT_NEAR(e.pooled.at[0].completeness, 50.0 / 180, 1e-12);
+  EXPECT_NEAR(e.pooled.at[0].accuracy, 50.0 / 80, 1e-12);
+  EXPECT_FALSE(e.images[1].has_estimate);
+  EXPECT_EQ(e.images[1].all.num_estimated, 0);
+  EXPECT_EQ(e.images[1].all.at[0].f1, 0.0);
+  EXPECT_TRUE(e.has_masks);
+}
+
+TEST(Evaluation, SmallerEstimateIsScoredAgainstNearestGtPixel) {
+  GtView gt = PlaneGtView(8, 6, 8, 1.0f);
+  for (int r = 0; r < 6; ++r) {
+    for (int c = 0; c < 8; ++c) gt.depth.data[r * 8 + c] = 1.0f + c;  // distinct per column
+  }
+  FloatMap half(4, 3, 1);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) half.At(r, c) = 1.0f + 2 * c;  // GT at column 2c
+  }
+  DepthImageScore s = ScoreDepthMap(half, gt, {0.01});
+  EXPECT_EQ(s.all.num_gt, 12);  // scored on the estimate's grid
+  EXPECT_EQ(s.all.at[0].num_good, 12);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) half.At(r, c) = 2.0f + 2 * c;  // one column off
+  }
+  s = ScoreDepthMap(half, gt, {0.01});
+  EXPECT_EQ(s.all.at[0].num_good, 0);
+}
+
+TEST(Evaluation, PointCloudShiftedRemovedAndOutliers) {
+  // Plane at 2 m, 40 x 30 pixels, f = 40: GT points 5 cm apart; median depth 2 m, so the
+  // tolerances are 1 cm (0.5 %) and 2 cm (1 %). The first 4 columns have no GT.
+  GtView gt = PlaneGtView(40, 30, 40, 2.0f);
+  for (int r = 0; r < 30; ++r) {
+    for (int c = 0; c < 4; ++c) gt.depth.data[r * 40 + c] = 0;
+  }
+  const std::vector<Eigen::Vector3f> gt_points = BackProjectGtViews({gt});
+  ASSERT_EQ(gt_points.size(), 36u * 30);
+  const std::vector<double> tols = {0.005, 0.01};
+
+  PointCloudEvaluation e = ScorePointCloud({gt}, gt_points, tols, 2);
+  EXPECT_DOUBLE_EQ(e.median_gt_depth, 2.0);
+  ASSERT_EQ(e.at.size(), 2u);
+  EXPECT_NEAR(e.at[0].tolerance, 0.01, 1e-9);
+  for (const CloudScoreAtTolerance& t : e.at) {
+    EXPECT_DOUBLE_EQ(t.accuracy, 1.0);
+    EXPECT_DOUBLE_EQ(t.completeness, 1.0);
+    EXPECT_DOUBLE_EQ(t.f1, 1.0);
+  }
+
+  // Shifted 1.5 cm along the plane normal: wrong at 1 cm, right at 2 cm.
+  std::vector<Eigen::Vector3f> shifted = gt_points;
+  for (Eigen::Vector3f& p : shifted) p.z() -= 0.015f;
+  e = ScorePointCloud({gt}, shifted, tols, 2);
+  EXPECT_DOUBLE_EQ(e.at[0].accuracy, 0.0);
+  EXPECT_DOUBLE_EQ(e.at[0].completeness, 0.0);
+  EXPECT_DOUBLE_EQ(e.at[1].accuracy, 1.0);
+  EXPECT_DOUBLE_EQ(e.at[1].completeness, 1.0);
+
+  // Right half removed: every remaining point accurate, completeness = remaining share.
+  std::vector<Eigen::Vector3f> half;
+  for (const Eigen::Vector3f& p : gt_points) {
+    if (p.x() < 0) half.push_back(p);  // columns 4..19 of 4..39
+  }
+  e = ScorePointCloud({gt}, half, tols, 2);
+  EXPECT_DOUBLE_EQ(e.at[0].accuracy, 1.0);
+  EXPECT_NEAR(e.at[0].completeness, 16.0 / 36.0, 1e-12);
+  EXPECT_NEAR(e.at[1].completeness, 16.0 / 36.0, 1e-12);
+
+  // Outliers: 270 points 30 cm in front of the plane over valid GT lower accuracy by a
+  // known share; points over the GT-less columns or outside the view are ignored.
+  std::vector<Eigen::Vector3f> noisy = gt_points;
+  for (int i = 0; i < 270; ++i) {
+    // Pixel (row i % 30, column 10 + i / 30) back-projected to 1.9 m: it projects onto that
+    // pixel (valid GT) but lies 10 cm off the plane.
+    const int r = i % 30, c = 10 + i / 30;
+    noisy.emplace_back(1.9f * (c - 20) / 40.f, 1.9f * (r - 15) / 40.f, 1.9f);
+  }
+  const size_t observed_before = noisy.size();
+  for (int r = 0; r < 30; ++r) noisy.emplace_back(-0.93f, (r - 15) * 0.05f, 2.0f);  // GT-less column
+  noisy.emplace_back(50.f, 0.f, 2.f);   // outside the image
+  noisy.emplace_back(0.f, 0.f, -3.f);   // behind the camera
+  e = ScorePointCloud({gt}, noisy, tols, 2);
+  EXPECT_EQ(e.num_points, static_cast<int64_t>(noisy.size()));
+  EXPECT_EQ(e.num_observed, static_cast<int64_t>(observed_before));
+  EXPECT_NEAR(e.at[0].accuracy, 1080.0 / 1350.0, 1e-12);
+  EXPECT_DOUBLE_EQ(e.at[0].completeness, 1.0);
+
+  // Empty cloud.
+  e = ScorePointCloud({gt}, {}, tols, 1);
+  EXPECT_EQ(e.at[0].f1, 0.0);
+}
+
+TEST(Evaluation, GtAgainstItselfIsPerfect) {
+  test::TempDir dir;
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), dir.path());
+  InstallGtAsEstimates(dir.path(), scene);
+  // gt_points.ply is every valid GT pixel back-projected, as a fused cloud would be.
+  fs::copy_file(dir / "gt/gt_points.ply", dir / "fused.ply");
+  EvaluationOptions options;
+  const WorkspaceEvaluation e = EvaluateWorkspace(dir.path(), dir.path(), "", options);
+  EXPECT_EQ(e.gt_dir, dir / "gt");
+  ASSERT_EQ(e.depth.images.size(), 3u);
+  ASSERT_TRUE(e.depth.has_masks);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_DOUBLE_EQ(e.depth.pooled.at[k].f1, 1.0);
+    EXPECT_DOUBLE_EQ(e.depth.pooled_untextured.at[k].f1, 1.0);
+  }
+  EXPECT_EQ(e.depth.pooled.num_gt, 3 * 160 * 120);
+  EXPECT_GT(e.depth.pooled_untextured.num_gt, e.depth.pooled.num_gt / 3);
+  ASSERT_TRUE(e.has_cloud);
+  EXPECT_EQ(e.cloud.num_points, e.cloud.num_gt_points);
+  EXPECT_EQ(e.cloud.num_observed, e.cloud.num_points);
+  for (const CloudScoreAtTolerance& t : e.cloud.at) EXPECT_DOUBLE_EQ(t.f1, 1.0);
+
+  // The printed table and the JSON carry the numbers.
+  const std::string table = FormatScoreTable(e);
+  EXPECT_NE(table.find("all pixels (pooled)"), std::string::npos);
+  EXPECT_NE(table.find("100.0"), std::string::npos);
+  const std::string json = EvaluationJson({e}, ReportContext{"test", "abc123"});
+  EXPECT_NE(json.find("\"commit\": \"abc123\""), std::string::npos);
+  EXPECT_NE(json.find("\"pooled_untextured\""), std::string::npos);
+}
+
+TEST(Evaluation, DepthMapsWrongByKnownFractionEndToEnd) {
+  test::TempDir dir;
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), dir.path());
+  InstallGtAsEstimates(dir.path(), scene);
+  // Image 0: every 4th pixel 5 % too far. Image 1: depth map deleted. Image 2: perfect.
+  const std::string p0 = dir / ("stereo/depth_maps/" + scene.views[0].name + ".geometric.bin");
+  FloatMap m = ReadFloatMap(p0, 1);
+  for (size_t i = 0; i < m.data.size(); i += 4) m.data[i] *= 1.05f;
+  WriteFloatMap(p0, m);
+  fs::remove(dir / ("stereo/depth_maps/" + scene.views[1].name + ".geometric.bin"));
+  EvaluationOptions options;
+  const DepthEvaluation e = EvaluateDepthMaps(dir.path(), dir / "gt", options);
+  ASSERT_EQ(e.images.size(), 3u);
+  const int64_t n = 160 * 120;
+  EXPECT_NEAR(e.images[0].all.at[0].accuracy, 0.75, 1e-12);
+  EXPECT_NEAR(e.images[0].all.at[0].completeness, 0.75, 1e-12);
+  EXPECT_FALSE(e.images[1].has_estimate);
+  EXPECT_EQ(e.images[1].all.at[0].completeness, 0.0);
+  EXPECT_DOUBLE_EQ(e.images[2].all.at[1].f1, 1.0);
+  EXPECT_EQ(e.pooled.num_gt, 3 * n);
+  EXPECT_EQ(e.pooled.num_estimated, 2 * n);
+  EXPECT_NEAR(e.pooled.at[0].accuracy, 1.75 / 2, 1e-12);
+  EXPECT_NEAR(e.pooled.at[0].completeness, 1.75 / 3, 1e-12);
+}
+
+TEST(Evaluation, PlyRoundTripAndAsciiReading) {
+  test::TempDir dir;
+  PlyPointCloud cloud;
+  cloud.has_normals = cloud.has_colors = true;
+  for (int i = 0; i < 5; ++i) {
+    PlyPoint p;
+    p.x = 0.5f * i;
+    p.y = -1.25f * i;
+    p.z = 3.f + i;
+    p.nz = -1.f;
+    p.r = static_cast<uint8_t>(10 * i);
+    p.g = 200;
+    p.b = 7;
+    cloud.points.push_back(p);
+  }
+  WritePlyPointCloud(dir / "a.ply", cloud);
+  const std::string header = test::ReadTextFile(dir / "a.ply").substr(0, 240);
+  EXPECT_NE(header.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(header.find("property float nx"), std::string::npos);
+  EXPECT_NE(header.find("property uchar red"), std::string::npos);
+  const PlyPointCloud back = ReadPlyPointCloud(dir / "a.ply");
+  ASSERT_EQ(back.points.size(), 5u);
+  EXPECT_TRUE(back.has_normals && back.has_colors);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(back.points[i].x, cloud.points[i].x);
+    EXPECT_EQ(back.points[i].y, cloud.points[i].y);
+    EXPECT_EQ(back.points[i].z, cloud.points[i].z);
+    EXPECT_EQ(back.points[i].nz, -1.f);
+    EXPECT_EQ(back.points[i].r, cloud.points[i].r);
+  }
+  WriteFileAtomically(dir / "b.ply", [](std::ostream& out) {
+    out << "ply\nformat ascii 1.0\ncomment hand-written\nelement vertex 2\nproperty double z\n"
+           "property double x\nproperty double y\nproperty uchar intensity\nelement face 0\n"
+           "property list uchar int vertex_indices\nend_header\n1 2 3 9\n4 5 6 9\n";
+  });
+  const PlyPointCloud ascii = ReadPlyPointCloud(dir / "b.ply");
+  ASSERT_EQ(ascii.points.size(), 2u);
+  EXPECT_EQ(ascii.points[1].x, 5.f);
+  EXPECT_EQ(ascii.points[1].y, 6.f);
+  EXPECT_EQ(ascii.points[1].z, 4.f);
+  EXPECT_FALSE(ascii.has_normals);
+  // A truncated binary body is an error naming the file.
+  WriteFileAtomically(dir / "c.ply", [](std::ostream& out) {
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\n"
+           "property float y\nproperty float z\nend_header\n0123456789";
+  });
+  try {
+    ReadPlyPointCloud(dir / "c.ply");
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("c.ply"), std::string::npos);
+  }
+}
+
+TEST(Evaluation, AgreementOfDepthMapsWithoutGt) {
+  FloatMap a(10, 10, 1, 2.0f), b(10, 10, 1, 2.0f);
+  for (int i = 0; i < 100; ++i) {
+    if (i < 20) b.data[i] = 2.2f;       // disagree by ~10 %
+    else if (i < 30) b.data[i] = 0.f;   // missing in b
+    else if (i < 35) a.data[i] = 0.f;   // missing in a
+  }
+  const AgreementCounts c = CompareDepthMaps(a, b, 0.01);
+  EXPECT_EQ(c.num_pixels, 100);
+  EXPECT_EQ(c.num_a, 95);
+  EXPECT_EQ(c.num_b, 90);
+  EXPECT_EQ(c.num_both, 85);
+  EXPECT_EQ(c.num_agree, 65);
+  EXPECT_NEAR(c.AgreeShare(), 65.0 / 85, 1e-12);
+}
+
+TEST(Evaluation, EvaluateAndCompareCommands) {
+  test::TempDir dir;
+  const std::string ws_a = dir / "a", ws_b = dir / "b";
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), ws_a);
+  InstallGtAsEstimates(ws_a, scene);
+  fs::copy(ws_a, ws_b, fs::copy_options::recursive);
+  const std::string p = ws_b + "/stereo/depth_maps/" + scene.views[0].name + ".geometric.bin";
+  FloatMap m = ReadFloatMap(p, 1);
+  for (size_t i = 0; i < m.data.size() / 2; ++i) m.data[i] = 0;
+  WriteFloatMap(p, m);
+
+  EXPECT_EQ(RunEvaluateCommand({"--workspace_path", ws_a, "--output_path", dir / "eval",
+                                "--commit", "test"}),
+            0);
+  EXPECT_TRUE(FileExists(dir / "eval/evaluation.json"));
+  EXPECT_TRUE(FileExists(dir / "eval/view_00_eval.png"));
+  const RgbImage panel = ReadRgbImage(dir / "eval/view_00_eval.png");
+  EXPECT_GT(panel.width, 3 * 160);
+
+  EXPECT_EQ(RunCompareCommand({"--workspace_paths", ws_a + "," + ws_b, "--gt_path", ws_a + "/gt",
+                               "--labels", "perfect,half", "--output_path", dir / "cmp"}),
+            0);
+  EXPECT_NE(test::ReadTextFile(dir / "cmp/comparison.json").find("\"label\": \"half\""), std::string::npos);
+  EXPECT_EQ(RunCompareCommand({"--workspace_paths", ws_a + "," + ws_b, "--output_path", dir / "agree"}), 0);
+  const std::vector<PairAgreement> pairs = ComputeDepthAgreement({ws_a, ws_b}, "geometric", 0.01);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0].images[0].counts.num_both, 160 * 120 / 2);
+  EXPECT_EQ(pairs[0].images[0].counts.num_agree, 160 * 120 / 2);
+  EXPECT_EQ(pairs[0].images[1].counts.num_agree, 160 * 120);
+
+  EXPECT_THROW(RunEvaluateCommand({"--workspace_path", dir / "nope"}), Error);
+  EXPECT_THROW(RunGenerateSceneCommand({"--scene", "castle", "--output_path", dir / "x"}), Error);
+}
+
+}  // namespace
+}  // namespace mpmvs
