@@ -31,6 +31,8 @@ const std::vector<std::pair<std::string, std::pair<Command, std::string>>>& Comm
                           "render a synthetic scene with exact ground truth as a dense workspace"}},
       {"evaluate", {mpmvs::RunEvaluateCommand, "score depth maps / fused points against ground truth"}},
       {"compare", {mpmvs::RunCompareCommand, "score several workspaces of one scene side by side"}},
+      {"ablation", {mpmvs::RunAblationCommand,
+                    "the paper's Table 1 (ACMH ... mPM+rs+gp) on one scene, scored against GT"}},
   };
   return commands;
 }

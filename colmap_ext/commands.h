@@ -8,6 +8,7 @@ namespace mpmvs {
 
 int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args);
 int RunDemoCommand(const std::vector<std::string>& args);
+int RunAblationCommand(const std::vector<std::string>& args);
 
 // The `colmap` executable to hand other commands to: --colmap_path is handled by main;
 // else $MPMVS_COLMAP_EXE, else "colmap" on PATH.

@@ -16,7 +16,7 @@
 #include "colmap_ext/mat_io.h"
 #include "colmap_ext/planar_prior.h"
 #include "colmap_ext/stage_plan.h"
-#include "colmap_ext/map_pictures.h"
+#include "colmap_ext/visualization.h"
 
 namespace mpmvs {
 namespace {
@@ -317,8 +317,8 @@ void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchPro
   }
   if (run_.options.write_pictures) {
     const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + workspace_.views[problem.ref].name + "." + type);
-    WriteDepthPicture(base + ".depth.png", depth_map, problem.depth_min, problem.depth_max);
-    WriteNormalPicture(base + ".normal.png", normal_map);
+    WriteRgbPng(base + ".depth.png", DepthPicture(depth_map, problem.depth_min, problem.depth_max, workspace_.views[problem.ref].name + " " + type + " depth"));
+    WriteRgbPng(base + ".normal.png", NormalPicture(normal_map, workspace_.views[problem.ref].name + " " + type + " normals"));
   }
 }
 
@@ -427,7 +427,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
         const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + view.name + "." + stage.name);
         FloatMap stage_depth(view.width, view.height, 1);
         stage_depth.data = StateDepth(state, problem.ref_camera, p.depth_min, p.depth_max);
-        WriteDepthPicture(base + ".depth.png", stage_depth, p.depth_min, p.depth_max);
+        WriteRgbPng(base + ".depth.png", DepthPicture(stage_depth, p.depth_min, p.depth_max, view.name + " stage " + stage.name));
         if (stage.kind == StageKind::kPlanarPrior) {
           FloatMap prior_depth(view.width, view.height, 1);
           for (size_t i = 0; i < prior.label.size(); ++i) {
@@ -436,7 +436,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
             prior_depth.data[i] = kernels::PlaneDepth(
                 pl, kernels::PixelRay(problem.ref_camera, float(i % view.width), float(i / view.width)));
           }
-          WriteDepthPicture(base + ".prior_model.png", prior_depth, p.depth_min, p.depth_max);
+          WriteRgbPng(base + ".prior_model.png", DepthPicture(prior_depth, p.depth_min, p.depth_max, view.name + " planar prior"));
         }
       }
       ++stage_summary.images_computed;

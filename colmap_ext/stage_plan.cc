@@ -46,6 +46,9 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
     prior.prior_geometric_selection = geometric_selection;
     prior.schedule = single_scale(options.prior_iterations);
     prior.schedule.use_prior = true;
+    // After a geometric pass (gp) the prior run keeps the geometric term: the paper does not
+    // say, the reference code drops it, and keeping it scores better (colmap_ext/DESIGN.md).
+    prior.schedule.geometric = geometric_selection;
     plan.stages.push_back(prior);
   };
   auto add_geometric = [&](const std::string& name) {

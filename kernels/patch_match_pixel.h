@@ -263,15 +263,31 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     const float depth = PlaneDepth(plane, ray);
     have = plane.d != 0.f && DepthInRange(params, depth);
   }
-  if (params.use_prior && params.prior.label[idx] &&
-      (!have || !init_cost || init_cost[idx] >= 0.1f)) {
+  RefPatch patch;
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+  const bool prior_pixel = params.use_prior && params.prior.label[idx];
+  if (prior_pixel && (!have || !init_cost || init_cost[idx] >= 0.1f)) {
+    // ACMP restarts poorly matched pixels near the prior plane. Rather than overwriting the
+    // earlier estimate, keep whichever of the two scores better under the prior score, so a
+    // wrong prior never erases a good match (a deviation from ACMP, see kernels/DESIGN.md).
     const Plane prior_plane = LoadPlane(params.prior.plane, idx);
-    const float prior_depth = PlaneDepth(prior_plane, ray);
-    const float depth = prior_depth * rng.Uniform(0.94f, 1.06f);
+    const float depth = PlaneDepth(prior_plane, ray) * rng.Uniform(0.94f, 1.06f);
     const Vec3 n = PerturbNormal(&rng, prior_plane.n, 0.03f * kPi, ray);
     if (DepthInRange(params, depth)) {
-      plane = PlaneFromDepthNormal(ray, depth, n);
-      have = true;
+      const Plane candidate = PlaneFromDepthNormal(ray, depth, n);
+      if (!have) {
+        plane = candidate;
+        have = true;
+      } else {
+        float c_old, p_old, g_old, c_new, p_new, g_new;
+        uint32_t m_old, m_new;
+        InitialCost<Ncc>(params, patch, u, v, ray, plane, &c_old, &p_old, &g_old, &m_old, num_ncc);
+        InitialCost<Ncc>(params, patch, u, v, ray, candidate, &c_new, &p_new, &g_new, &m_new, num_ncc);
+        if (PriorScore(params.prior, c_new, candidate, prior_plane, ray) >
+            PriorScore(params.prior, c_old, plane, prior_plane, ray)) {
+          plane = candidate;
+        }
+      }
     }
   }
   if (!have) {
@@ -279,10 +295,8 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     plane = PlaneFromDepthNormal(ray, depth, RandomNormal(&rng, ray));
   }
   StorePlane(state.plane, idx, plane);
-  RefPatch patch;
-  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
   InitialCost<Ncc>(params, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
-              &state.geo_error[idx], &state.view_mask[idx], num_ncc);
+                   &state.geo_error[idx], &state.view_mask[idx], num_ncc);
 }
 
 // ---------------------------------------------------------------------------------------
