@@ -1,0 +1,135 @@
+// Speed and memory figures of the PatchMatch engine (not a test: it prints numbers).
+//   build/tests/mpmvs_benchmarks
+// Counters: seconds per depth map, Mpix*iterations/s, cost samples/s (view x hypothesis
+// NCCs actually evaluated x 36 window samples / wall second), peak resident memory.
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include <filesystem>
+#include <memory>
+#include <thread>
+
+#include "colmap_ext/colmap_runner.h"
+#include "colmap_ext/dense_workspace.h"
+#include "colmap_ext/file_util.h"
+#include "colmap_ext/mp_patch_match_stereo.h"
+#include "colmap_ext/synthetic_scene.h"
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+namespace {
+
+namespace fs = std::filesystem;
+
+double PeakMemoryMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+std::string ScratchDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "mpmvs_bench" / name;
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+kernels::Camera ToCamera(const DenseView& view) {
+  kernels::Camera c;
+  c.width = view.width;
+  c.height = view.height;
+  c.fx = view.K[0];
+  c.fy = view.K[4];
+  c.cx = view.K[2];
+  c.cy = view.K[5];
+  for (int i = 0; i < 9; ++i) c.R[i] = view.R[i];
+  for (int i = 0; i < 3; ++i) c.t[i] = view.T[i];
+  return c;
+}
+
+// Photometric mPM stage (9 iterations) of one 640x480 reference image with 4 sources of the
+// synthetic plane scene, on `threads` threads.
+void BM_PhotometricStage(benchmark::State& state) {
+  static const std::string dir = [] {
+    const std::string d = ScratchDir("plane640");
+    if (!FileExists(d + "/gt/scene_info.json")) {
+      SyntheticSceneOptions o;
+      o.scene = "plane";
+      o.width = 640;
+      o.height = 480;
+      o.num_views = 5;
+      o.plane_tilt_deg = 40;
+      GenerateSyntheticScene(o, d);
+    }
+    return d;
+  }();
+  const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
+  std::vector<GrayImage> images;
+  for (size_t i = 0; i < ws.views.size(); ++i) images.push_back(ws.ReadGray(static_cast<int>(i)));
+  kernels::PatchMatchProblem problem;
+  problem.ref_camera = ToCamera(ws.views[0]);
+  problem.ref_image = {images[0].data.data(), images[0].width, images[0].height};
+  for (size_t s = 1; s < images.size(); ++s) {
+    problem.sources.push_back({{images[s].data.data(), images[s].width, images[s].height}, ToCamera(ws.views[s]), nullptr});
+  }
+  problem.depth_min = ws.views[0].depth_min;
+  problem.depth_max = ws.views[0].depth_max;
+  kernels::PatchMatchSchedule schedule;
+  for (int s = 2; s >= 0; --s) {
+    for (int t = 0; t < 3; ++t) schedule.iterations.push_back({s, t});
+  }
+  schedule.num_threads = static_cast<int>(state.range(0));
+  uint64_t samples = 0, pixel_iterations = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    kernels::PatchMatchResult result;
+    const auto start = std::chrono::steady_clock::now();
+    kernels::RunPatchMatchCpu(problem, schedule, &result);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    uint64_t nccs = result.init_ncc_evaluations;
+    for (const auto& it : result.iterations) nccs += it.ncc_evaluations;
+    samples += nccs * kernels::kWindowSamples;
+    pixel_iterations += static_cast<uint64_t>(result.width) * result.height * result.iterations.size();
+  }
+  state.counters["s_per_map"] = seconds / state.iterations();
+  state.counters["Mpix_it_per_s"] = pixel_iterations / seconds / 1e6;
+  state.counters["samples_per_s"] = samples / seconds;
+  state.counters["samples_per_s_per_thread"] = samples / seconds / state.range(0);
+  state.counters["peak_MiB"] = PeakMemoryMiB();
+}
+BENCHMARK(BM_PhotometricStage)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// The whole default pipeline (4 stages, 16 iterations) on a real two-view Middlebury 2014
+// pair (~0.36 Mpx each), both images: the "under 5 s on 2 cores" target.
+void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
+  const std::string dataset = std::string(MPMVS_SHARED_DATA_DIR) + "/middlebury2014_adirondack";
+  if (!fs::is_directory(dataset) || !ColmapAvailable()) {
+    state.SkipWithError("needs ../shared/data/middlebury2014_adirondack and colmap");
+    return;
+  }
+  const std::string ws = ScratchDir("adirondack");
+  if (!DirectoryExists(ws + "/stereo")) {
+    RunColmap({"image_undistorter", "--image_path", dataset + "/images", "--input_path", dataset + "/sparse",
+               "--output_path", ws, "--output_type", "COLMAP"},
+              ws + "/../undistorter.log");
+  }
+  double seconds = 0;
+  for (auto _ : state) {
+    fs::remove_all(ws + "/stereo/mpmvs");
+    for (const char* d : {"/stereo/depth_maps", "/stereo/normal_maps"}) {
+      for (const auto& e : fs::directory_iterator(ws + d)) fs::remove(e.path());
+    }
+    MpPatchMatchRun run;
+    run.workspace_path = ws;
+    run.options.write_pictures = false;
+    const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
+    seconds += summary.seconds;
+  }
+  state.counters["s_whole_run"] = seconds / state.iterations();
+  state.counters["peak_MiB"] = PeakMemoryMiB();
+}
+BENCHMARK(BM_MiddleburyTwoViewPipeline)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+}  // namespace mpmvs
+
+BENCHMARK_MAIN();
