@@ -352,22 +352,23 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
     kernels::PatchMatchResult result;
 
     const bool have_state = FileExists(state_path) && !run_.options.overwrite;
-    if (have_state) {
-      StateToResult(ReadFloatMap(state_path, kStateChannels), &result);
-      ++stage_summary.images_resumed;
-    } else {
+    const bool filter_here = run_.colmap_options.filter && ((writes_geometric) ||
+                                                            (writes_photometric && plan_.geometric_output < 0));
+    // Images and source depth maps: needed to compute the stage, and by the output filter.
+    std::vector<std::shared_ptr<const GrayImage>> keep_images;
+    std::vector<std::shared_ptr<const std::vector<float>>> keep_depths;
+    if (!have_state || filter_here) {
       auto ref_image = images_->Get(p.ref);
+      keep_images.push_back(ref_image);
       problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
-      std::vector<std::shared_ptr<const GrayImage>> keep_images;
-      std::vector<std::shared_ptr<const std::vector<float>>> keep_depths;
       for (int src : p.src) {
         kernels::PatchMatchSource source;
         source.camera = ToCamera(workspace_.views[src]);
         if (stage.schedule.geometric) {
           const std::string src_state = StatePath(src, plan_.stages[stage.input].name);
           if (!view_depth_min_.count(src) || !FileExists(src_state)) {
-            LogWarning(view.name + ": source " + workspace_.views[src].name +
-                       " has no " + plan_.stages[stage.input].name + " result; left out of this stage");
+            LogWarning(view.name + ": source " + workspace_.views[src].name + " has no " +
+                       plan_.stages[stage.input].name + " result; left out of this stage");
             continue;
           }
           keep_depths.push_back(depths_->Get({stage.input, src}));
@@ -378,6 +379,11 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
         source.image = kernels::ImageView{img->data.data(), img->width, img->height};
         problem.sources.push_back(source);
       }
+    }
+    if (have_state) {
+      StateToResult(ReadFloatMap(state_path, kStateChannels), &result);
+      ++stage_summary.images_resumed;
+    } else {
       if (problem.sources.empty()) {
         LogWarning(view.name + ": no usable source views in stage " + stage.name + "; skipped");
         progress.Step(view.name + " (skipped)");
@@ -445,6 +451,16 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
       stage_summary.pixel_iterations +=
           static_cast<uint64_t>(result.width) * result.height * result.iterations.size();
       if (stage_summary.iterations.empty()) stage_summary.iterations = result.iterations;
+    }
+    if (filter_here && !problem.sources.empty()) {
+      kernels::FilterParams filter;
+      filter.min_ncc = static_cast<float>(run_.colmap_options.filter_min_ncc);
+      filter.min_triangulation_angle_deg = static_cast<float>(run_.colmap_options.filter_min_triangulation_angle);
+      filter.min_num_consistent = run_.colmap_options.filter_min_num_consistent;
+      filter.geom_max_error = static_cast<float>(run_.colmap_options.filter_geom_consistency_max_cost);
+      const size_t removed =
+          kernels::FilterResultCpu(problem, stage.schedule.geometric, filter, run_.colmap_options.num_threads, &result);
+      LogInfo(view.name + ": filter removed " + std::to_string(removed) + " pixels");
     }
     if (writes_photometric && (run_.options.overwrite || !FinalOutputsExist(p.ref, "photometric"))) {
       WriteFinal(p, problem, result, "photometric");

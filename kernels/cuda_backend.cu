@@ -34,23 +34,28 @@ static_assert((kBlockSideX * kBlockSideY) % 32 == 0, "blocks must be whole warps
                            cudaGetErrorString(error));
 }
 
-#define MPMVS_CUDA_CHECK(expr)                                              \
-  do {                                                                      \
-    const cudaError_t mpmvs_cuda_error = (expr);                            \
-    if (mpmvs_cuda_error != cudaSuccess) {                                  \
-      ThrowCudaError(mpmvs_cuda_error, #expr, __FILE__, __LINE__);          \
-    }                                                                       \
+#define MPMVS_CUDA_CHECK(expr)                                     \
+  do {                                                             \
+    const cudaError_t mpmvs_cuda_error = (expr);                   \
+    if (mpmvs_cuda_error != cudaSuccess) {                         \
+      ThrowCudaError(mpmvs_cuda_error, #expr, __FILE__, __LINE__); \
+    }                                                              \
   } while (0)
 
 // ---------------------------------------------------------------------------------------
 // Device side: thin launchers around the shared per-pixel functions.
 
-__device__ __forceinline__ Dim2 ToDim2(const uint3& d) { return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)}; }
-__device__ __forceinline__ Dim2 ToDim2(const dim3& d) { return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)}; }
+__device__ __forceinline__ Dim2 ToDim2(const uint3& d) {
+  return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)};
+}
+__device__ __forceinline__ Dim2 ToDim2(const dim3& d) {
+  return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)};
+}
 
 // Adds every thread's count to *counter: a warp sum, then one atomic per warp.
 __device__ __forceinline__ void AccumulateCount(uint32_t count, unsigned long long* counter) {
-  for (int offset = 16; offset > 0; offset >>= 1) count += __shfl_down_sync(0xffffffffu, count, offset);
+  for (int offset = 16; offset > 0; offset >>= 1)
+    count += __shfl_down_sync(0xffffffffu, count, offset);
   const unsigned lane = (threadIdx.y * blockDim.x + threadIdx.x) & 31u;
   if (lane == 0 && count > 0) atomicAdd(counter, static_cast<unsigned long long>(count));
 }
@@ -98,12 +103,14 @@ class DeviceBuffer {
   void Upload(const T* host, size_t count, cudaStream_t stream) {
     Allocate(count);
     if (count > 0) {
-      MPMVS_CUDA_CHECK(cudaMemcpyAsync(ptr_, host, count * sizeof(T), cudaMemcpyHostToDevice, stream));
+      MPMVS_CUDA_CHECK(
+          cudaMemcpyAsync(ptr_, host, count * sizeof(T), cudaMemcpyHostToDevice, stream));
     }
   }
   void Download(T* host, cudaStream_t stream) const {
     if (count_ > 0) {
-      MPMVS_CUDA_CHECK(cudaMemcpyAsync(host, ptr_, count_ * sizeof(T), cudaMemcpyDeviceToHost, stream));
+      MPMVS_CUDA_CHECK(
+          cudaMemcpyAsync(host, ptr_, count_ * sizeof(T), cudaMemcpyDeviceToHost, stream));
     }
   }
   T* get() const { return ptr_; }
@@ -137,7 +144,9 @@ class Event {
   cudaEvent_t event_ = nullptr;
 };
 
-dim3 ToDim3(const Dim2& d) { return dim3(static_cast<unsigned>(d.x), static_cast<unsigned>(d.y), 1u); }
+dim3 ToDim3(const Dim2& d) {
+  return dim3(static_cast<unsigned>(d.x), static_cast<unsigned>(d.y), 1u);
+}
 
 }  // namespace
 
@@ -148,7 +157,8 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
     return false;
   };
   auto cuda_reason = [](const char* call, cudaError_t error) {
-    return std::string(call) + " failed: " + cudaGetErrorName(error) + ": " + cudaGetErrorString(error);
+    return std::string(call) + " failed: " + cudaGetErrorName(error) + ": " +
+           cudaGetErrorString(error);
   };
   int count = 0;
   cudaError_t error = cudaGetDeviceCount(&count);
@@ -176,7 +186,8 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
                        int gpu_index, PatchMatchResult* result, const ProgressCallback& progress) {
   schedule.Check();
   std::string why;
-  if (!CudaDeviceAvailable(gpu_index, &why)) throw std::runtime_error("CUDA backend unusable: " + why);
+  if (!CudaDeviceAvailable(gpu_index, &why))
+    throw std::runtime_error("CUDA backend unusable: " + why);
   MPMVS_CUDA_CHECK(cudaSetDevice(gpu_index));  // per host thread
 
   // Host copies of the source views; their pointers are replaced by device ones below.
@@ -205,7 +216,8 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
     sources[i].image.data = source_images[i].get();
     sources[i].depth = nullptr;  // only read by geometric passes
     if (schedule.geometric) {
-      source_depths[i].Upload(src.depth_map, MakeStateLayout(src.camera.width, src.camera.height).num_pixels, s);
+      source_depths[i].Upload(src.depth_map,
+                              MakeStateLayout(src.camera.width, src.camera.height).num_pixels, s);
       sources[i].depth = source_depths[i].get();
     }
   }

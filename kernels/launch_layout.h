@@ -50,7 +50,8 @@ inline LaunchLayout ImageLaunchLayout(int width, int height) {
 inline LaunchLayout CheckerboardLaunchLayout(int width, int height) {
   LaunchLayout l;
   l.block = Dim2{kBlockSideX, kBlockSideY};
-  l.grid = Dim2{MaxI(1, CeilDiv((width + 1) / 2, kBlockSideX)), MaxI(1, CeilDiv(height, kBlockSideY))};
+  l.grid =
+      Dim2{MaxI(1, CeilDiv((width + 1) / 2, kBlockSideX)), MaxI(1, CeilDiv(height, kBlockSideY))};
   return l;
 }
 
@@ -90,7 +91,8 @@ struct StateLayout {
 
 inline StateLayout MakeStateLayout(int width, int height) {
   StateLayout l;
-  l.num_pixels = width > 0 && height > 0 ? static_cast<size_t>(width) * static_cast<size_t>(height) : 0;
+  l.num_pixels =
+      width > 0 && height > 0 ? static_cast<size_t>(width) * static_cast<size_t>(height) : 0;
   l.plane_floats = kPlaneFloatsPerPixel * l.num_pixels;
   l.cost_floats = l.num_pixels;
   l.mask_words = l.num_pixels;

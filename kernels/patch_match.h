@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "kernels/launch_layout.h"
+#include "kernels/filter.h"
 #include "kernels/patch_match_pixel.h"
 
 namespace mpmvs {
@@ -91,6 +92,12 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why);
 void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
                        int gpu_index, PatchMatchResult* result,
                        const ProgressCallback& progress = nullptr);
+
+// COLMAP-style filter of a finished result (host, all cores): filtered pixels get
+// photometric cost 2, i.e. no depth in ExtractDepthNormalMaps. geometric: also require
+// forward-backward consistency with the sources' depth maps. Returns the pixels removed.
+size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
+                       int num_threads, PatchMatchResult* result);
 
 // Depth (W*H, 0 = invalid) and camera-frame normal (3 planes of W*H, COLMAP layout) maps.
 void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchResult& result,

@@ -34,8 +34,8 @@ void ForEachThread(const LaunchLayout& layout, const Map& map, const Fn& fn) {
   }
 }
 
-const int kSizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 5}, {16, 8}, {17, 9},
-                         {31, 33}, {32, 16}, {33, 17}, {64, 48}, {161, 121}};
+const int kSizes[][2] = {{1, 1},  {1, 9},   {9, 1},   {2, 2},   {3, 5},   {16, 8},
+                         {17, 9}, {31, 33}, {32, 16}, {33, 17}, {64, 48}, {161, 121}};
 
 TEST(CudaLaunchLayout, CheckerboardCoversEveryPixelOfOneColourOnce) {
   for (const auto& size : kSizes) {
@@ -43,7 +43,8 @@ TEST(CudaLaunchLayout, CheckerboardCoversEveryPixelOfOneColourOnce) {
     const LaunchLayout layout = CheckerboardLaunchLayout(W, H);
     EXPECT_EQ((layout.block.x * layout.block.y) % 32, 0) << "blocks must be whole warps";
     for (int color = 0; color < 2; ++color) {
-      SCOPED_TRACE(std::to_string(W) + "x" + std::to_string(H) + " colour " + std::to_string(color));
+      SCOPED_TRACE(std::to_string(W) + "x" + std::to_string(H) + " colour " +
+                   std::to_string(color));
       std::vector<int> hits(static_cast<size_t>(W) * H, 0);
       bool in_range = true;
       ForEachThread(
@@ -91,7 +92,9 @@ TEST(CudaLaunchLayout, ImageLayoutCoversEveryPixelOnce) {
     std::vector<int> hits(static_cast<size_t>(W) * H, 0);
     ForEachThread(
         ImageLaunchLayout(W, H),
-        [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) { return ImageThreadPixel(W, H, b, bd, t, u, v); },
+        [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
+          return ImageThreadPixel(W, H, b, bd, t, u, v);
+        },
         [&](int u, int v) {
           ASSERT_TRUE(u >= 0 && v >= 0 && u < W && v < H);
           ++hits[static_cast<size_t>(v) * W + u];
@@ -140,8 +143,9 @@ struct TestScene {
 };
 
 float PlaneTexture(float a, float b) {
-  return 128.f + 40.f * std::sin(10.f * a) * std::cos(8.f * b) + 30.f * std::sin(24.f * a + 18.f * b) +
-         20.f * std::cos(42.f * b - 32.f * a) + 15.f * std::sin(66.f * a) * std::sin(58.f * b);
+  return 128.f + 40.f * std::sin(10.f * a) * std::cos(8.f * b) +
+         30.f * std::sin(24.f * a + 18.f * b) + 20.f * std::cos(42.f * b - 32.f * a) +
+         15.f * std::sin(66.f * a) * std::sin(58.f * b);
 }
 
 Camera LookAtCamera(int W, int H, float focal, Vec3 centre, Vec3 target) {
@@ -175,8 +179,10 @@ TestScene MakeTiltedPlaneScene(int W, int H) {
       for (int u = 0; u < W; ++u) {
         float acc = 0.f;  // 2x2 supersampling
         for (int s = 0; s < 4; ++s) {
-          const Vec3 dir = MatTVec(cam.R, PixelRay(cam, u - 0.25f + 0.5f * (s & 1), v - 0.25f + 0.5f * (s >> 1)));
-          const float lambda = Dot(scene.plane_point - C, scene.plane_normal) / Dot(dir, scene.plane_normal);
+          const Vec3 dir = MatTVec(
+              cam.R, PixelRay(cam, u - 0.25f + 0.5f * (s & 1), v - 0.25f + 0.5f * (s >> 1)));
+          const float lambda =
+              Dot(scene.plane_point - C, scene.plane_normal) / Dot(dir, scene.plane_normal);
           const Vec3 X = C + lambda * dir - scene.plane_point;
           acc += PlaneTexture(Dot(X, axis_u), Dot(X, axis_v));
         }
@@ -210,7 +216,8 @@ PatchMatchProblem MakeSceneProblem(const TestScene& scene) {
   PatchMatchProblem problem;
   problem.image_id = 3;
   problem.ref_camera = scene.cameras[0];
-  problem.ref_image = ImageView{scene.images[0].data(), scene.cameras[0].width, scene.cameras[0].height};
+  problem.ref_image =
+      ImageView{scene.images[0].data(), scene.cameras[0].width, scene.cameras[0].height};
   for (size_t s = 1; s < scene.cameras.size(); ++s) {
     PatchMatchSource src;
     src.camera = scene.cameras[s];
@@ -260,7 +267,8 @@ void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& o
     EXPECT_EQ(other.iterations[i].tau, cpu.iterations[i].tau);
     // Float rounding may flip a few decisions (e.g. reuse of a duplicate candidate's cost).
     const double n = static_cast<double>(cpu.iterations[i].ncc_evaluations);
-    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.02 * n) << "iteration " << i;
+    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.02 * n)
+        << "iteration " << i;
   }
   EXPECT_EQ(other.init_ncc_evaluations, cpu.init_ncc_evaluations);  // no decisions in init
 }
@@ -282,9 +290,12 @@ void RunCudaPassesOnHost(const PatchMatchProblem& problem, const PatchMatchSched
   uint32_t count = 0;
   ForEachThread(
       ImageLaunchLayout(W, H),
-      [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) { return ImageThreadPixel(W, H, b, bd, t, u, v); },
+      [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
+        return ImageThreadPixel(W, H, b, bd, t, u, v);
+      },
       [&](int u, int v) {
-        InitializePixel<ScalarNcc>(params, state, problem.init_plane, problem.init_cost, u, v, &count);
+        InitializePixel<ScalarNcc>(params, state, problem.init_plane, problem.init_cost, u, v,
+                                   &count);
       });
   result->init_ncc_evaluations = count;
   const LaunchLayout layout = CheckerboardLaunchLayout(W, H);
@@ -317,7 +328,8 @@ TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
   EXPECT_GE(GroundTruthAgreement(scene, problem, cpu), 0.98);
   RunCudaPassesOnHost(problem, schedule, &emulated);
   const double agreement = DepthAgreement(problem, cpu, emulated, kDepthTolerance);
-  std::printf("host-emulated CUDA passes vs CPU backend: %.2f%% of depths within 0.1%%\n", 100 * agreement);
+  std::printf("host-emulated CUDA passes vs CPU backend: %.2f%% of depths within 0.1%%\n",
+              100 * agreement);
   EXPECT_GE(agreement, kMinAgreement);
   ExpectSameStatistics(cpu, emulated);
 }

@@ -195,3 +195,48 @@ TEST(Pipeline, InvalidOptionsAreRejectedBeforeAnyWork) {
 
 }  // namespace
 }  // namespace mpmvs
+
+namespace mpmvs {
+namespace {
+
+TEST(Pipeline, ColmapStyleFilterKeepsASubsetOfPixels) {
+  test::TempDir tmp;
+  SyntheticSceneOptions scene;
+  scene.scene = "plane";
+  scene.width = 96;
+  scene.height = 72;
+  scene.num_views = 3;
+  scene.plane_tilt_deg = 35;
+  GenerateSyntheticScene(scene, tmp / "a");
+  GenerateSyntheticScene(scene, tmp / "b");
+  MpPatchMatchRun run;
+  run.options.write_pictures = false;
+  run.workspace_path = tmp / "a";
+  RunMpPatchMatchStereo(run);
+  run.workspace_path = tmp / "b";
+  run.colmap_options.filter = true;
+  run.colmap_options.filter_min_num_consistent = 2;
+  RunMpPatchMatchStereo(run);
+  int kept = 0, removed = 0;
+  for (const std::string name : {"view_00.png", "view_01.png", "view_02.png"}) {
+    const FloatMap a = ReadFloatMap(tmp / ("a/stereo/depth_maps/" + name + ".geometric.bin"), 1);
+    const FloatMap b = ReadFloatMap(tmp / ("b/stereo/depth_maps/" + name + ".geometric.bin"), 1);
+    const FloatMap nb = ReadFloatMap(tmp / ("b/stereo/normal_maps/" + name + ".geometric.bin"), 3);
+    ASSERT_EQ(a.data.size(), b.data.size());
+    for (size_t i = 0; i < a.data.size(); ++i) {
+      if (b.data[i] > 0) {
+        EXPECT_EQ(a.data[i], b.data[i]);  // same seed: kept pixels are unchanged
+        ++kept;
+      } else if (a.data[i] > 0) {
+        EXPECT_EQ(nb.data[i], 0.f);  // filtered pixels have no normal either
+        ++removed;
+      }
+    }
+  }
+  // Both sources must agree: pixels seen by only one other view (image borders) go.
+  EXPECT_GT(removed, 0);
+  EXPECT_GT(kept, 3 * 96 * 72 / 2);
+}
+
+}  // namespace
+}  // namespace mpmvs

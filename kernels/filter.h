@@ -1,0 +1,51 @@
+#pragma once
+// COLMAP-style output filter (--PatchMatchStereo.filter): a pixel is kept when at least
+// min_num_consistent source views see its plane photo-consistently (NCC >= min_ncc), under
+// a triangulation angle >= min_triangulation_angle and, in geometric stages, with a
+// forward-backward reprojection error <= geom_max_error.
+#include <math.h>
+
+#include "kernels/patch_match_pixel.h"
+
+namespace mpmvs {
+namespace kernels {
+
+struct FilterParams {
+  float min_ncc = 0.1f;
+  float min_triangulation_angle_deg = 3.f;
+  int min_num_consistent = 2;
+  float geom_max_error = 1.f;
+};
+
+template <class Ncc>
+MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterParams& filter,
+                                       const PixelState& state, int u, int v) {
+  const int idx = v * params.ref_camera.width + u;
+  const Plane plane = LoadPlane(state.plane, idx);
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  const float depth = PlaneDepth(plane, ray);
+  if (!(state.photo_cost[idx] < kInvalidCost) || !DepthInRange(params, depth)) return false;
+  RefPatch patch;
+  ComputeRefPatch(params.ref_image, u, v, WindowForScale(0), &patch);
+  const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
+  const Vec3 X = depth * ray;
+  const float cos_min = cosf(filter.min_triangulation_angle_deg * kPi / 180.f);
+  int consistent = 0;
+  for (int s = 0; s < params.num_sources; ++s) {
+    const SourceView& src = params.sources[s];
+    float H[9];
+    PlaneHomography(src.rel, m, H);
+    const float cost = Ncc::Cost(patch, src.image, H, u, v, WindowForScale(0));
+    if (1.f - cost < filter.min_ncc) continue;
+    // Source centre in the reference frame is tinv; the angle at X between both rays.
+    const Vec3 to_ref = Normalize(-X);
+    const Vec3 to_src = Normalize(Vec3{src.rel.tinv[0], src.rel.tinv[1], src.rel.tinv[2]} - X);
+    if (Dot(to_ref, to_src) > cos_min) continue;
+    if (params.geometric && GeometricError(params, src, u, v, ray, depth) > filter.geom_max_error) continue;
+    ++consistent;
+  }
+  return consistent >= MinI(filter.min_num_consistent, params.num_sources);
+}
+
+}  // namespace kernels
+}  // namespace mpmvs
