@@ -15,6 +15,10 @@ struct ImageView {
   const float* data = nullptr;
   int width = 0;
   int height = 0;
+  // Optional CPU-only copy with horizontal neighbours side by side:
+  // pairs[2 * (y * width + x) + k] = I(min(x + k, width - 1), y), k = 0, 1. One 64-bit
+  // gather then fetches both pixels a bilinear sample needs from a row (ncc_simd.h).
+  const float* pairs = nullptr;
 };
 
 // Window of scale S: edge L = 2^S*10+1, 6x6 samples with spacing 2^(S+1) (radius 5*2^S).

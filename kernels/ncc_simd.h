@@ -52,13 +52,39 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
     const __m256i y1 = _mm256_min_epi32(_mm256_add_epi32(y0, one), ylast);
     const __m256i r0 = _mm256_mullo_epi32(y0, width);
     const __m256i r1 = _mm256_mullo_epi32(y1, width);
-    const __m256 p00 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x0), 4);
-    const __m256 p01 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x1), 4);
-    const __m256 p10 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x0), 4);
-    const __m256 p11 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x1), 4);
-    const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
-    const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
-    const __m256 value = _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
+    __m256 value;
+    if (src.pairs) {
+      // Two 64-bit gathers per row fetch (I(x0), I(x0+1)) for 8 samples; the shuffles
+      // leave lanes in the order 0,1,4,5,2,3,6,7, so fx/fy are permuted alike and the
+      // result is permuted back.
+      const __m256i i0 = _mm256_add_epi32(r0, x0);
+      const __m256i i1 = _mm256_add_epi32(r1, x0);
+      const double* pairs = reinterpret_cast<const double*>(src.pairs);
+      const __m256 t_lo = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_castsi256_si128(i0), 8));
+      const __m256 t_hi = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_extracti128_si256(i0, 1), 8));
+      const __m256 b_lo = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_castsi256_si128(i1), 8));
+      const __m256 b_hi = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_extracti128_si256(i1, 1), 8));
+      const __m256 p00 = _mm256_shuffle_ps(t_lo, t_hi, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m256 p01 = _mm256_shuffle_ps(t_lo, t_hi, _MM_SHUFFLE(3, 1, 3, 1));
+      const __m256 p10 = _mm256_shuffle_ps(b_lo, b_hi, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m256 p11 = _mm256_shuffle_ps(b_lo, b_hi, _MM_SHUFFLE(3, 1, 3, 1));
+      // Lane order after the shuffles: 0,1,4,5,2,3,6,7 (64-bit lanes 0,2,1,3).
+      const __m256 fxq = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(fx), _MM_SHUFFLE(3, 1, 2, 0)));
+      const __m256 fyq = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(fy), _MM_SHUFFLE(3, 1, 2, 0)));
+      const __m256 top = _mm256_fmadd_ps(fxq, _mm256_sub_ps(p01, p00), p00);
+      const __m256 bottom = _mm256_fmadd_ps(fxq, _mm256_sub_ps(p11, p10), p10);
+      const __m256 vq = _mm256_fmadd_ps(fyq, _mm256_sub_ps(bottom, top), top);
+      value = _mm256_sub_ps(
+          _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(vq), _MM_SHUFFLE(3, 1, 2, 0))), shift);
+    } else {
+      const __m256 p00 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x0), 4);
+      const __m256 p01 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x1), 4);
+      const __m256 p10 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x0), 4);
+      const __m256 p11 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x1), 4);
+      const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
+      const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
+      value = _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
+    }
     const __m256 wv = _mm256_mul_ps(_mm256_loadu_ps(patch.weight + b), value);
     sum_s = _mm256_add_ps(sum_s, wv);
     sum_ss = _mm256_fmadd_ps(wv, value, sum_ss);
