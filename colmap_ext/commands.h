@@ -6,7 +6,13 @@
 
 namespace mpmvs {
 
+class WorkspaceIo;
+
 int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args);
+// The same command reading and writing through io (not owned); program names the
+// executable in the usage text ("colmap-mp", "colmap").
+int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, WorkspaceIo* io,
+                                       const std::string& program);
 int RunDemoCommand(const std::vector<std::string>& args);
 int RunAblationCommand(const std::vector<std::string>& args);
 

@@ -17,6 +17,7 @@
 #include "colmap_ext/planar_prior.h"
 #include "colmap_ext/stage_plan.h"
 #include "colmap_ext/visualization.h"
+#include "colmap_ext/workspace_io.h"
 
 namespace mpmvs {
 namespace {
@@ -131,7 +132,7 @@ class Backend {
 
 class Controller {
  public:
-  explicit Controller(const MpPatchMatchRun& run) : run_(run) {}
+  Controller(const MpPatchMatchRun& run, WorkspaceIo* io) : run_(run), io_(io) {}
 
   MpPatchMatchSummary Run();
 
@@ -150,6 +151,7 @@ class Controller {
                   const kernels::PatchMatchResult& result, const std::string& type);
 
   MpPatchMatchRun run_;
+  WorkspaceIo* io_;
   DenseWorkspace workspace_;
   PipelinePlan plan_;
   std::vector<Problem> problems_;
@@ -195,7 +197,7 @@ MpPatchMatchSummary Controller::Run() {
                 " is not supported by mp-mvs; use a COLMAP workspace (image_undistorter --output_type COLMAP)");
   }
   LogHeading("mp_patch_match_stereo: loading workspace " + run_.workspace_path);
-  workspace_ = LoadDenseWorkspace(run_.workspace_path, run_.colmap_options.max_image_size);
+  workspace_ = io_->Load(run_.workspace_path, run_.colmap_options.max_image_size);
   LoadProblems();
   plan_ = MakePipelinePlan(run_.colmap_options, run_.options);
   if (!run_.colmap_options.geom_consistency && run_.options.PriorMode() == PlanarPriorMode::kGeometric) {
@@ -245,7 +247,7 @@ MpPatchMatchSummary Controller::Run() {
   summary.backend = backend_->Name();
   const size_t cache_bytes = static_cast<size_t>(run_.colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
   images_ = std::make_unique<LruCache<int, GrayImage>>(
-      cache_bytes / 2, [this](const int& view) { return workspace_.ReadGray(view); },
+      cache_bytes / 2, [this](const int& view) { return io_->ReadGray(workspace_, view); },
       [](const GrayImage& img) { return img.data.size() * sizeof(float); });
   depths_ = std::make_unique<LruCache<std::pair<int, int>, std::vector<float>>>(
       cache_bytes / 2,
@@ -290,8 +292,9 @@ void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchPro
   depth_map.data = std::move(depth);
   normal_map.data = std::move(normal);
   // Normal first: fusion aborts on a depth map without its normal map.
-  WriteFloatMap(workspace_.NormalMapPath(problem.ref, type), normal_map);
-  WriteFloatMap(workspace_.DepthMapPath(problem.ref, type), depth_map);
+  io_->WriteNormalMap(workspace_.NormalMapPath(problem.ref, type), normal_map);
+  io_->WriteDepthMap(workspace_.DepthMapPath(problem.ref, type), depth_map, problem.depth_min,
+                     problem.depth_max);
   if (run_.colmap_options.write_consistency_graph) {
     ConsistencyGraph graph;
     graph.width = W;
@@ -313,7 +316,7 @@ void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchPro
         }
       }
     }
-    WriteConsistencyGraph(workspace_.ConsistencyGraphPath(problem.ref, type), graph);
+    io_->WriteConsistencyGraph(workspace_.ConsistencyGraphPath(problem.ref, type), graph);
   }
   if (run_.options.write_pictures) {
     const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + workspace_.views[problem.ref].name + "." + type);
@@ -465,7 +468,10 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
     if (writes_photometric && (run_.options.overwrite || !FinalOutputsExist(p.ref, "photometric"))) {
       WriteFinal(p, problem, result, "photometric");
     }
-    if (writes_geometric) WriteFinal(p, problem, result, "geometric");
+    if (writes_geometric) {
+      kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, &result);
+      WriteFinal(p, problem, result, "geometric");
+    }
     progress.Step(view.name + (have_state ? " (resumed from stereo/mpmvs)" : ""));
   }
   stage_summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -474,9 +480,15 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
 
 }  // namespace
 
-MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run) {
-  Controller controller(run);
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run, WorkspaceIo* io) {
+  if (io == nullptr) throw Error("RunMpPatchMatchStereo: no workspace I/O given");
+  Controller controller(run, io);
   return controller.Run();
+}
+
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run) {
+  MpMvsWorkspaceIo io;
+  return RunMpPatchMatchStereo(run, &io);
 }
 
 }  // namespace mpmvs

@@ -1,7 +1,10 @@
 #pragma once
 // The mp_patch_match_stereo controller: loads a COLMAP dense workspace, runs the stage plan
 // (stage_plan.h) for every reference image of patch-match.cfg on the chosen backend, and
-// writes COLMAP depth/normal maps that `colmap stereo_fusion` reads unchanged.
+// writes COLMAP depth/normal maps that `colmap stereo_fusion` reads unchanged. Reading the
+// workspace and writing the maps go through a WorkspaceIo (workspace_io.h), so the same
+// stage loop serves `colmap-mp` (mp-mvs's own I/O) and the native `colmap` command
+// (COLMAP's mvs::Workspace and writers, colmap_ext/native).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,6 +13,8 @@
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
+
+class WorkspaceIo;
 
 struct StageSummary {
   std::string name;
@@ -42,6 +47,9 @@ struct MpPatchMatchRun {
 };
 
 // Throws Error with a clear message on bad input; never leaves partial map files.
+// Uses mp-mvs's own I/O (MpMvsWorkspaceIo).
 MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run);
+// Same, reading the workspace and writing the maps through io (not owned, not null).
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run, WorkspaceIo* io);
 
 }  // namespace mpmvs

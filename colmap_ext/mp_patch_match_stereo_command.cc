@@ -1,4 +1,5 @@
-// `colmap-mp mp_patch_match_stereo`: COLMAP's patch_match_stereo options plus --MPMVS.*.
+// `colmap-mp mp_patch_match_stereo` (and, through RunMpPatchMatchStereoCommandWithIo, the
+// native `colmap mp_patch_match_stereo`): COLMAP's patch_match_stereo options plus --MPMVS.*.
 #include <cstdio>
 #include <iostream>
 
@@ -6,10 +7,17 @@
 #include "colmap_ext/logging.h"
 #include "colmap_ext/mp_patch_match_stereo.h"
 #include "colmap_ext/option_parser.h"
+#include "colmap_ext/workspace_io.h"
 
 namespace mpmvs {
 
 int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args) {
+  MpMvsWorkspaceIo io;
+  return RunMpPatchMatchStereoCommandWithIo(args, &io, "colmap-mp");
+}
+
+int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, WorkspaceIo* io,
+                                       const std::string& program) {
   MpPatchMatchRun run;
   OptionParser parser;
   parser.AddRequired("workspace_path", &run.workspace_path, "COLMAP dense workspace (image_undistorter output)");
@@ -19,7 +27,7 @@ int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args) {
   parser.Add("config_path", &run.config_path, "patch-match.cfg to use instead of stereo/patch-match.cfg");
   AddPatchMatchOptions(&parser, &run.colmap_options, &run.options);
   if (!parser.Parse(args)) {
-    std::cout << "Usage: colmap-mp mp_patch_match_stereo --workspace_path DIR [options]\n\n"
+    std::cout << "Usage: " << program << " mp_patch_match_stereo --workspace_path DIR [options]\n\n"
               << "Computes depth and normal maps with MP-MVS and writes them where COLMAP's\n"
               << "patch_match_stereo does (stereo/depth_maps, stereo/normal_maps), for\n"
               << "`colmap stereo_fusion`.\n\nOptions:\n"
@@ -27,7 +35,7 @@ int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args) {
     return 0;
   }
   for (const std::string& w : parser.Warnings()) LogWarning(w);
-  const MpPatchMatchSummary s = RunMpPatchMatchStereo(run);
+  const MpPatchMatchSummary s = RunMpPatchMatchStereo(run, io);
   LogHeading("mp_patch_match_stereo finished in " + FormatDuration(s.seconds));
   char line[512];
   for (const StageSummary& st : s.stages) {

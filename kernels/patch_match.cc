@@ -120,6 +120,17 @@ void ResetResult(int width, int height, PatchMatchResult* result) {
   result->iterations.clear();
 }
 
+size_t InvalidateGeometricallyInconsistent(float geom_max_error, PatchMatchResult* result) {
+  size_t count = 0;
+  for (size_t i = 0; i < result->geo_error.size(); ++i) {
+    if (result->geo_error[i] >= geom_max_error * (1.f - 1e-4f) && result->photo_cost[i] < kInvalidCost) {
+      result->photo_cost[i] = kInvalidCost;
+      ++count;
+    }
+  }
+  return count;
+}
+
 void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchResult& result,
                             std::vector<float>* depth, std::vector<float>* normal) {
   const int W = result.width, H = result.height;

@@ -99,6 +99,11 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result);
 
+// Marks pixels whose geometric term is saturated (no selected source view reprojects
+// within geom_max_error) as invalid (photometric cost 2); returns how many. Such pixels are
+// occluded or outside every source view in practice (colmap_ext/DESIGN.md).
+size_t InvalidateGeometricallyInconsistent(float geom_max_error, PatchMatchResult* result);
+
 // Depth (W*H, 0 = invalid) and camera-frame normal (3 planes of W*H, COLMAP layout) maps.
 void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchResult& result,
                             std::vector<float>* depth, std::vector<float>* normal);
