@@ -42,7 +42,7 @@ MPMVS_HD MPMVS_FORCE_INLINE int WindowOffset(const WindowSpec& w, int k) { retur
 
 // Bilateral weight constants of ACMH (distances unsquared, as in the reference code).
 constexpr float kSigmaSpatial = 5.0f;
-constexpr float kSigmaColor = 2.0f;
+constexpr float kSigmaColor = 3.0f;
 constexpr float kMinNccVariance = 1e-5f;
 
 // Bilinear sample with clamp-to-edge addressing.
