@@ -1,0 +1,147 @@
+// The colmap-mp executable as a user runs it: help, option errors, bad workspaces, COLMAP
+// pass-through, and that a failed run leaves earlier outputs untouched.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "colmap_ext/mat_io.h"
+#include "colmap_ext/synthetic_scene.h"
+#include "tests/test_util.h"
+
+namespace mpmvs {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code;
+  std::string output;
+};
+
+CliRun ColmapMp(const std::string& args, const std::string& log) {
+  CliRun r;
+  r.code = test::RunCommand("'" + test::ColmapMpExecutable() + "' " + args, log);
+  r.output = test::ReadTextFile(log);
+  return r;
+}
+
+TEST(Cli, HelpListsTheCommands) {
+  test::TempDir tmp;
+  const CliRun r = ColmapMp("help", tmp / "log");
+  EXPECT_EQ(r.code, 0);
+  for (const char* c : {"mp_patch_match_stereo", "demo", "evaluate", "ablation", "stereo_fusion"}) {
+    EXPECT_NE(r.output.find(c), std::string::npos) << c;
+  }
+  const CliRun h = ColmapMp("mp_patch_match_stereo -h", tmp / "log2");
+  EXPECT_EQ(h.code, 0);
+  EXPECT_NE(h.output.find("--MPMVS.max_window_scale"), std::string::npos);
+  EXPECT_NE(h.output.find("--PatchMatchStereo.geom_consistency"), std::string::npos);
+}
+
+TEST(Cli, OptionErrorsAreClear) {
+  test::TempDir tmp;
+  CliRun r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --PatchMatchStereo.bogus 1",
+                   tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("unknown option --PatchMatchStereo.bogus"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--PatchMatchStereo.max_image_size"), std::string::npos);  // lists valid ones
+  r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --PatchMatchStereo.max_image_size big",
+               tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("bad value 'big' for option --PatchMatchStereo.max_image_size"), std::string::npos);
+  r = ColmapMp("mp_patch_match_stereo", tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("missing required option --workspace_path"), std::string::npos);
+  r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --MPMVS.max_window_scale 9", tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("MPMVS.max_window_scale"), std::string::npos);
+}
+
+TEST(Cli, MissingWorkspaceNamesThePath) {
+  test::TempDir tmp;
+  const std::string missing = tmp / "no_such_workspace";
+  const CliRun r = ColmapMp("mp_patch_match_stereo --workspace_path " + missing, tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find(missing), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(missing));
+}
+
+TEST(Cli, OtherCommandsGoToColmapWithTheirExitCode) {
+  MPMVS_REQUIRE_COLMAP(colmap);
+  test::TempDir tmp;
+  // A failing colmap command: same exit code and message as colmap itself.
+  const int direct = test::RunCommand("'" + colmap + "' patch_match_stereo --workspace_path " + tmp.path(), tmp / "d");
+  const CliRun r = ColmapMp("patch_match_stereo --workspace_path " + tmp.path(), tmp / "log");
+  EXPECT_EQ(r.code, direct);
+  EXPECT_NE(direct, 0);
+  EXPECT_EQ(r.output, test::ReadTextFile(tmp / "d"));
+  // A working one: model_converter writes a text model.
+  SyntheticSceneOptions scene;
+  scene.scene = "plane";
+  scene.width = 48;
+  scene.height = 36;
+  scene.num_views = 2;
+  GenerateSyntheticScene(scene, tmp / "ws");
+  fs::create_directories(tmp / "txt");
+  const CliRun c = ColmapMp("model_converter --input_path " + (tmp / "ws/sparse") + " --output_path " + (tmp / "txt") +
+                             " --output_type TXT",
+                         tmp / "log2");
+  EXPECT_EQ(c.code, 0) << c.output;
+  EXPECT_TRUE(fs::exists(tmp / "txt/images.txt"));
+}
+
+TEST(Cli, FailedRunLeavesEarlierOutputsUntouched) {
+  test::TempDir tmp;
+  SyntheticSceneOptions scene;
+  scene.scene = "plane";
+  scene.width = 64;
+  scene.height = 48;
+  scene.num_views = 3;
+  scene.plane_tilt_deg = 35;
+  GenerateSyntheticScene(scene, tmp.path());
+  CliRun r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --PatchMatchStereo.window_radius 7",
+                   tmp / "log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("window_radius is accepted for COLMAP compatibility but ignored"), std::string::npos);
+  const std::string depth = tmp / "stereo/depth_maps/view_00.png.geometric.bin";
+  const std::string before = test::ReadTextFile(depth);
+  ASSERT_FALSE(before.empty());
+  const auto mtime = fs::last_write_time(depth);
+
+  // Corrupt a source image, then ask for a full recomputation.
+  { std::ofstream(tmp / "images/view_02.png", std::ios::binary) << "not a png"; }
+  r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --MPMVS.overwrite 1", tmp / "log2");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("view_02.png"), std::string::npos) << r.output;
+  EXPECT_EQ(test::ReadTextFile(depth), before);
+  EXPECT_EQ(fs::last_write_time(depth), mtime);
+  for (const auto& e : fs::recursive_directory_iterator(tmp / "stereo")) {
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+TEST(Cli, DemoRunsEndToEnd) {
+  test::TempDir tmp;
+  const std::string out = tmp / "demo";
+  const CliRun r = ColmapMp("demo --output_path " + out + " --width 320 --height 240 --num_views 4", tmp / "log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("all pixels (pooled)"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out + "/evaluation/evaluation.json"));
+  EXPECT_TRUE(fs::exists(out + "/evaluation/view_00_eval.png"));
+  EXPECT_TRUE(fs::exists(out + "/stereo/depth_maps/view_00.png.geometric.bin"));
+  if (!test::ColmapExecutable().empty()) {
+    EXPECT_TRUE(fs::exists(out + "/fused.ply"));
+    EXPECT_NE(r.output.find("Point cloud"), std::string::npos);
+  }
+  // A folder that is not a demo is never overwritten.
+  fs::create_directories(tmp / "mine");
+  { std::ofstream(tmp / "mine/important.txt") << "data"; }
+  const CliRun refused = ColmapMp("demo --output_path " + (tmp / "mine"), tmp / "log2");
+  EXPECT_EQ(refused.code, 1);
+  EXPECT_NE(refused.output.find("not an mp-mvs demo folder"), std::string::npos);
+  EXPECT_EQ(test::ReadTextFile(tmp / "mine/important.txt"), "data");
+}
+
+}  // namespace
+}  // namespace mpmvs

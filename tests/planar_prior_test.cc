@@ -1,0 +1,110 @@
+// Planar prior construction: vertex selection rules, Delaunay triangles, and the planes
+// rasterised per pixel against known planes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "colmap_ext/planar_prior.h"
+
+namespace mpmvs {
+namespace {
+
+kernels::Camera MakeCamera(int w, int h) {
+  kernels::Camera c;
+  c.width = w;
+  c.height = h;
+  c.fx = c.fy = 100.f;
+  c.cx = w / 2.f;
+  c.cy = h / 2.f;
+  return c;
+}
+
+// Depth of a known plane n.X + d = 0 at every pixel.
+std::vector<float> PlaneDepths(const kernels::Camera& cam, const kernels::Plane& plane) {
+  std::vector<float> depth(static_cast<size_t>(cam.width) * cam.height);
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      depth[v * cam.width + u] = kernels::PlaneDepth(plane, kernels::PixelRay(cam, float(u), float(v)));
+    }
+  }
+  return depth;
+}
+
+TEST(PlanarPrior, TrianglePlanesMatchAKnownPlane) {
+  const kernels::Camera cam = MakeCamera(80, 60);
+  const kernels::Vec3 n = kernels::Normalize(kernels::Vec3{0.3f, -0.2f, -1.f});
+  const kernels::Plane plane = kernels::PlaneFromDepthNormal(kernels::PixelRay(cam, 40, 30), 5.f, n);
+  const std::vector<float> depth = PlaneDepths(cam, plane);
+  const size_t num = depth.size();
+  std::vector<float> photo(num, 1.f), geo(num, 0.f);
+  // Sparse reliable pixels on a coarse grid (every other 5x5 cell), like a textured subset.
+  for (int v = 2; v < cam.height; v += 10) {
+    for (int u = 2; u < cam.width; u += 10) photo[v * cam.width + u] = 0.05f;
+  }
+  PlanarPriorOptions options;
+  options.max_edge_fraction = 1.f;  // allow the long triangles of this sparse grid
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 20.f, options);
+  ASSERT_EQ(model.vertices.size(), 48u);  // 8 x 6 reliable pixels
+  EXPECT_GT(model.triangles.size() / 3, 60u);
+  int labelled = 0;
+  for (size_t i = 0; i < num; ++i) {
+    if (!model.label[i]) continue;
+    ++labelled;
+    const kernels::Vec3 pn{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]};
+    EXPECT_GT(kernels::Dot(pn, n), 0.99999f);  // same plane, facing the camera
+    EXPECT_NEAR(model.plane[4 * i + 3], plane.d, 1e-3f * std::abs(plane.d));
+  }
+  // Everything inside the convex hull of the vertices (u, v in [2, 72] x [2, 52]).
+  EXPECT_GE(labelled, 71 * 51);
+}
+
+TEST(PlanarPrior, VertexSelectionFollowsThePaper) {
+  const int W = 10, H = 5;
+  std::vector<float> depth(W * H, 2.f), photo(W * H, 0.5f), geo(W * H, 0.f);
+  // Cell 0 (u 0..4): four pixels pass m_p < 0.2 and m_g < 1, one fails m_g.
+  photo[0] = 0.10f;
+  photo[1] = 0.05f;
+  photo[2] = 0.15f;
+  photo[3] = 0.19f;
+  photo[4] = 0.01f;
+  geo[4] = 1.5f;
+  // Cell 1 (u 5..9): one pixel below 0.2 but without depth.
+  photo[7] = 0.01f;
+  depth[7] = 0.f;
+  PlanarPriorOptions options;
+  std::vector<PlanarPriorVertex> v = SelectPriorVertices(W, H, depth, photo, geo, options);
+  ASSERT_EQ(v.size(), 3u);  // at most 3 per cell, lowest combined cost first
+  EXPECT_EQ(v[0].u, 1);
+  EXPECT_EQ(v[1].u, 0);
+  EXPECT_EQ(v[2].u, 2);
+  // ACMP selection: one per cell with photometric cost < 0.1.
+  options.selection = PlanarPriorOptions::Selection::kPhotometric;
+  v = SelectPriorVertices(W, H, depth, photo, geo, options);
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_EQ(v[0].u, 4);  // ACMP ignores the geometric error
+}
+
+TEST(PlanarPrior, TrianglesAcrossDepthEdgesGiveNoPrior) {
+  const kernels::Camera cam = MakeCamera(60, 40);
+  std::vector<float> depth(60 * 40), photo(60 * 40, 1.f), geo(60 * 40, 0.f);
+  for (int v = 0; v < 40; ++v) {
+    for (int u = 0; u < 60; ++u) depth[v * 60 + u] = u < 30 ? 3.f : 6.f;  // a step
+  }
+  for (int v = 2; v < 40; v += 5) {
+    for (int u = 2; u < 60; u += 5) photo[v * 60 + u] = 0.05f;
+  }
+  PlanarPriorOptions options;
+  options.max_edge_fraction = 1.f;
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options);
+  EXPECT_GT(model.num_rejected_triangles, 0);
+  // No labelled pixel carries a depth between the two levels.
+  for (size_t i = 0; i < model.label.size(); ++i) {
+    if (!model.label[i]) continue;
+    const kernels::Plane pl{{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]}, model.plane[4 * i + 3]};
+    const float z = kernels::PlaneDepth(pl, kernels::PixelRay(cam, float(i % 60), float(i / 60)));
+    EXPECT_TRUE(std::abs(z - 3.f) < 1e-3f || std::abs(z - 6.f) < 1e-3f) << z;
+  }
+}
+
+}  // namespace
+}  // namespace mpmvs
