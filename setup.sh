@@ -34,3 +34,11 @@ if [ ! -f build/CMakeCache.txt ]; then
 fi
 cmake --build build -j "$(nproc)"
 echo "setup.sh: built build/colmap-mp"
+# Say plainly whether the CUDA backend is in the binary (it is compiled and linked here
+# even without a GPU; it only runs where a CUDA device exists).
+if [ "$(nm -C build/colmap-mp 2> /dev/null | grep -c CheckerboardKernel || true)" -gt 0 ]; then
+  archs=$(strings build/colmap-mp | grep -o "sm_[0-9][0-9]" | sort -u | grep -v sm_30 | tr "\n" " " || true)
+  echo "setup.sh: CUDA backend compiled and linked into build/colmap-mp (device code for: ${archs})"
+else
+  echo "setup.sh: build/colmap-mp has no CUDA backend (CPU only)"
+fi
