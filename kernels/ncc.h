@@ -121,15 +121,22 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
 // NCC cost in [0, 2] of the reference patch against a source image under homography H
 // (reference pixel -> source pixel). 2 when the centre maps outside the source image,
 // behind it, or either patch is flat.
+// Whether an NCC is defined at all: the window centre maps in front of the source camera
+// and inside its image, and the reference patch is not flat. Only the centre is tested.
+MPMVS_HD MPMVS_FORCE_INLINE bool NccDefined(const RefPatch& patch, const ImageView& src,
+                                            const float H[9], float fu, float fv) {
+  const float cz = H[6] * fu + H[7] * fv + H[8];
+  if (!(cz > 0.f)) return false;
+  const float cx = (H[0] * fu + H[1] * fv + H[2]) / cz;
+  const float cy = (H[3] * fu + H[4] * fv + H[5]) / cz;
+  return cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height &&
+         patch.variance >= kMinNccVariance;
+}
+
 MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
                                      int u, int v, const WindowSpec& win) {
   const float fu = static_cast<float>(u), fv = static_cast<float>(v);
-  const float cz = H[6] * fu + H[7] * fv + H[8];
-  if (!(cz > 0.f)) return kInvalidCost;
-  const float cx = (H[0] * fu + H[1] * fv + H[2]) / cz;
-  const float cy = (H[3] * fu + H[4] * fv + H[5]) / cz;
-  if (!(cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height)) return kInvalidCost;
-  if (patch.variance < kMinNccVariance) return kInvalidCost;
+  if (!NccDefined(patch, src, H, fu, fv)) return kInvalidCost;
 
   float sum_s = 0.f, sum_ss = 0.f, sum_rs = 0.f;
   const float shift = patch.centre;

@@ -14,12 +14,7 @@ namespace kernels {
 inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, const float H[9], int u,
                                 int v, const WindowSpec& /*win*/) {
   const float fu = static_cast<float>(u), fv = static_cast<float>(v);
-  const float cz = H[6] * fu + H[7] * fv + H[8];
-  if (!(cz > 0.f)) return kInvalidCost;
-  const float cx = (H[0] * fu + H[1] * fv + H[2]) / cz;
-  const float cy = (H[3] * fu + H[4] * fv + H[5]) / cz;
-  if (!(cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height)) return kInvalidCost;
-  if (patch.variance < kMinNccVariance) return kInvalidCost;
+  if (!NccDefined(patch, src, H, fu, fv)) return kInvalidCost;
 
   const __m256 h0 = _mm256_set1_ps(H[0]), h1 = _mm256_set1_ps(H[1]), h2 = _mm256_set1_ps(H[2]);
   const __m256 h3 = _mm256_set1_ps(H[3]), h4 = _mm256_set1_ps(H[4]), h5 = _mm256_set1_ps(H[5]);

@@ -11,13 +11,7 @@ namespace {
 
 TEST(Ablation, RowsRunWhatTheirNamesSay) {
   test::TempDir tmp;
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 64;
-  scene.height = 48;
-  scene.num_views = 3;
-  scene.plane_tilt_deg = 35;
-  GenerateSyntheticScene(scene, tmp / "scene");
+  test::WriteSmallPlaneScene(tmp / "scene", 64, 48, 3);
   AblationOptions options;
   options.workspace_path = tmp / "scene";
   options.gt_path = tmp / "scene/gt";

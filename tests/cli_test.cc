@@ -77,12 +77,7 @@ TEST(Cli, OtherCommandsGoToColmapWithTheirExitCode) {
   EXPECT_NE(direct, 0);
   EXPECT_EQ(r.output, test::ReadTextFile(tmp / "d"));
   // A working one: model_converter writes a text model.
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 48;
-  scene.height = 36;
-  scene.num_views = 2;
-  GenerateSyntheticScene(scene, tmp / "ws");
+  test::WriteSmallPlaneScene(tmp / "ws", 48, 36, 2);
   fs::create_directories(tmp / "txt");
   const CliRun c = ColmapMp("model_converter --input_path " + (tmp / "ws/sparse") + " --output_path " + (tmp / "txt") +
                              " --output_type TXT",
@@ -93,13 +88,7 @@ TEST(Cli, OtherCommandsGoToColmapWithTheirExitCode) {
 
 TEST(Cli, FailedRunLeavesEarlierOutputsUntouched) {
   test::TempDir tmp;
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 64;
-  scene.height = 48;
-  scene.num_views = 3;
-  scene.plane_tilt_deg = 35;
-  GenerateSyntheticScene(scene, tmp.path());
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
   CliRun r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --PatchMatchStereo.window_radius 7",
                    tmp / "log");
   ASSERT_EQ(r.code, 0) << r.output;

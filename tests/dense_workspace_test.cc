@@ -137,7 +137,8 @@ TEST(DenseWorkspaceTest, DepthRangesFromSparsePoints) {
   const DenseWorkspace ws = LoadDenseWorkspace(dir.path(), -1);
   // Image 0 sees depths 4.5 .. 5.9 (< 100 entries: first and last element).
   EXPECT_NEAR(ws.views[0].depth_min, 0.75 * 4.5, 1e-12);
-  EXPECT_NEAR(ws.views[0].depth_max, 1.25 * 5.9, 1e-12);
+  // In float like COLMAP's mvs::Model::ComputeDepthRanges (5.9f * 1.25f, not 5.9 * 1.25).
+  EXPECT_EQ(ws.views[0].depth_max, 5.9f * 1.25f);
   EXPECT_NEAR(ws.views[1].depth_min, 0.75 * 5.0, 1e-12);
   EXPECT_EQ(ws.views[4].depth_min, -1);
   EXPECT_EQ(ws.views[4].depth_max, -1);

@@ -108,13 +108,7 @@ TEST(Pipeline, TiltedPlaneSceneMeetsAccuracyTarget) {
 
 TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
   test::TempDir tmp;
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 96;
-  scene.height = 72;
-  scene.num_views = 3;
-  scene.plane_tilt_deg = 35;
-  GenerateSyntheticScene(scene, tmp.path());
+  test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
   MpPatchMatchRun run;
   run.workspace_path = tmp.path();
   run.options.write_pictures = true;
@@ -153,13 +147,7 @@ TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
 
 TEST(Pipeline, ImageWithoutSourcesIsSkippedAndCounted) {
   test::TempDir tmp;
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 64;
-  scene.height = 48;
-  scene.num_views = 3;
-  scene.plane_tilt_deg = 35;
-  GenerateSyntheticScene(scene, tmp.path());
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
   // view_02 lists only itself as source, which leaves it without sources.
   {
     std::ofstream cfg(tmp.path() + "/stereo/patch-match.cfg");
@@ -201,14 +189,8 @@ namespace {
 
 TEST(Pipeline, ColmapStyleFilterKeepsASubsetOfPixels) {
   test::TempDir tmp;
-  SyntheticSceneOptions scene;
-  scene.scene = "plane";
-  scene.width = 96;
-  scene.height = 72;
-  scene.num_views = 3;
-  scene.plane_tilt_deg = 35;
-  GenerateSyntheticScene(scene, tmp / "a");
-  GenerateSyntheticScene(scene, tmp / "b");
+  test::WriteSmallPlaneScene(tmp / "a", 96, 72, 3);
+  test::WriteSmallPlaneScene(tmp / "b", 96, 72, 3);
   MpPatchMatchRun run;
   run.options.write_pictures = false;
   run.workspace_path = tmp / "a";

@@ -64,6 +64,16 @@ std::string ColmapExecutable() {
   return "";
 }
 
+SyntheticScene WriteSmallPlaneScene(const std::string& dir, int width, int height, int num_views) {
+  SyntheticSceneOptions scene;
+  scene.scene = "plane";
+  scene.width = width;
+  scene.height = height;
+  scene.num_views = num_views;
+  scene.plane_tilt_deg = 35;
+  return GenerateSyntheticScene(scene, dir);
+}
+
 std::string ColmapMpExecutable() { return MPMVS_COLMAP_MP_EXE; }
 
 int RunCommand(const std::string& command, const std::string& log_path) {

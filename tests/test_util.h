@@ -2,6 +2,8 @@
 // Shared helpers of the tests: temporary folders, locating ../shared/data and `colmap`.
 #include <string>
 
+#include "colmap_ext/synthetic_scene.h"
+
 namespace mpmvs {
 namespace test {
 
@@ -26,6 +28,10 @@ std::string SharedDataset(const std::string& name);
 std::string ColmapExecutable();
 // The built colmap-mp.
 std::string ColmapMpExecutable();
+
+// A small synthetic textured plane tilted 35 degrees away from every camera, written as a
+// dense workspace into dir (the quick scene of most pipeline tests).
+SyntheticScene WriteSmallPlaneScene(const std::string& dir, int width, int height, int num_views);
 
 // Runs a shell command, returns its exit code; output goes to log_path when given.
 int RunCommand(const std::string& command, const std::string& log_path = "");
