@@ -125,32 +125,6 @@ std::vector<std::vector<int>> TracksAsViewIndices(const SparseModel& model) {
   return tracks;
 }
 
-void ComputeDepthRanges(DenseWorkspace* workspace) {
-  const std::vector<std::vector<int>> tracks = TracksAsViewIndices(workspace->model);
-  std::vector<std::vector<double>> depths(workspace->views.size());
-  for (size_t p = 0; p < tracks.size(); ++p) {
-    const double* X = workspace->model.points[p].xyz;
-    for (int view_idx : tracks[p]) {
-      const DenseView& view = workspace->views[view_idx];
-      const double z = view.R[6] * X[0] + view.R[7] * X[1] + view.R[8] * X[2] + view.T[2];
-      if (z > 0) depths[view_idx].push_back(z);
-    }
-  }
-  for (size_t i = 0; i < depths.size(); ++i) {
-    std::vector<double>& z = depths[i];
-    if (z.empty()) continue;
-    std::sort(z.begin(), z.end());
-    // Index = size * 0.01f / 0.99f truncated, in float like COLMAP (for n = 100, 0.99f gives
-    // 99 where exact arithmetic gives 98).
-    const auto index = [&](float fraction) {
-      const size_t k = static_cast<size_t>(static_cast<float>(z.size()) * fraction);
-      return std::min(k, z.size() - 1);
-    };
-    workspace->views[i].depth_min = 0.75 * z[index(0.01f)];
-    workspace->views[i].depth_max = 1.25 * z[index(0.99f)];
-  }
-}
-
 // Angle between the rays from two camera centres to X, folded to [0, pi/2].
 double TriangulationAngle(const double c1[3], const double c2[3], const double X[3]) {
   double a[3], b[3];
@@ -240,6 +214,41 @@ class AutoSourceSelector {
 };
 
 }  // namespace
+
+void ComputeDepthRanges(DenseWorkspace* workspace) {
+  const std::vector<std::vector<int>> tracks = TracksAsViewIndices(workspace->model);
+  std::vector<std::vector<float>> depths(workspace->views.size());
+  for (size_t p = 0; p < tracks.size(); ++p) {
+    // COLMAP's arithmetic (mvs::Model::ComputeDepthRanges): float point, float camera,
+    // Eigen's dot product order r6 x + (r7 y + r8 z), then + t_z. This file is compiled
+    // without floating-point contraction (-std=c++17), so no FMA changes the rounding.
+    const double* Xd = workspace->model.points[p].xyz;
+    const float X[3] = {static_cast<float>(Xd[0]), static_cast<float>(Xd[1]),
+                        static_cast<float>(Xd[2])};
+    for (int view_idx : tracks[p]) {
+      const DenseView& view = workspace->views[view_idx];
+      const float r6 = static_cast<float>(view.R[6]), r7 = static_cast<float>(view.R[7]),
+                  r8 = static_cast<float>(view.R[8]), tz = static_cast<float>(view.T[2]);
+      const float z = r6 * X[0] + (r7 * X[1] + r8 * X[2]) + tz;
+      if (z > 0) depths[view_idx].push_back(z);
+    }
+  }
+  for (size_t i = 0; i < depths.size(); ++i) {
+    std::vector<float>& z = depths[i];
+    workspace->views[i].depth_min = -1;
+    workspace->views[i].depth_max = -1;
+    if (z.empty()) continue;
+    std::sort(z.begin(), z.end());
+    // Index = size * 0.01f / 0.99f truncated, in float like COLMAP (for n = 100, 0.99f gives
+    // 99 where exact arithmetic gives 98).
+    const auto index = [&](float fraction) {
+      const size_t k = static_cast<size_t>(static_cast<float>(z.size()) * fraction);
+      return std::min(k, z.size() - 1);
+    };
+    workspace->views[i].depth_min = z[index(0.01f)] * 0.75f;
+    workspace->views[i].depth_max = z[index(0.99f)] * 1.25f;
+  }
+}
 
 int DenseWorkspace::FindView(const std::string& name) const {
   for (size_t i = 0; i < views.size(); ++i) {

@@ -23,7 +23,8 @@ struct DenseView {
   double R[9] = {0};
   double T[3] = {0};
   // COLMAP's depth range from the sparse points seen by the image: 0.75 * z[floor(0.01 n)]
-  // and 1.25 * z[floor(0.99 n)], z > 0 only. -1 when the image sees no point.
+  // and 1.25 * z[floor(0.99 n)], z > 0 only, in float (ComputeDepthRanges). -1 when the
+  // image sees no point.
   double depth_min = -1;
   double depth_max = -1;
 };
@@ -61,6 +62,12 @@ struct DenseWorkspace {
 // f = min(max/w, max/h) if max(w,h) > max, new size round(w f), round(h f), fx,cx scaled by
 // new_w/w and fy,cy by new_h/h.
 DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size);
+
+// Sets every view's depth_min/depth_max from the sparse points (model.points, tracks by
+// model.images' ids) exactly as COLMAP's mvs::Model::ComputeDepthRanges does, in float from
+// the float-rounded cameras and points, so that every loader that holds the same
+// float cameras and points (mp-mvs's reader, COLMAP's mvs::Model) gets identical values.
+void ComputeDepthRanges(DenseWorkspace* workspace);
 
 // Parses patch-match.cfg (COLMAP_INTERFACE.md §4): lines trimmed, '#' and empty lines
 // skipped; alternating reference NAME and a source line: "__all__", "__auto__, N" or a

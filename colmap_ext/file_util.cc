@@ -58,6 +58,27 @@ void WriteFileAtomically(const std::string& path,
   }
 }
 
+void WriteFileViaTemporaryPath(const std::string& path,
+                               const std::function<void(const std::string& tmp_path)>& write) {
+  const std::string tmp_path = TemporarySibling(path);
+  try {
+    write(tmp_path);
+    std::error_code ec;
+    if (!fs::is_regular_file(tmp_path, ec)) ThrowFileError(path, "the writer created no file");
+    fs::rename(tmp_path, path, ec);
+    if (ec) ThrowFileError(path, "cannot rename the temporary file into place (" + ec.message() + ")");
+  } catch (const Error&) {
+    RemoveQuietly(tmp_path);
+    throw;
+  } catch (const std::exception& e) {
+    RemoveQuietly(tmp_path);
+    ThrowFileError(path, std::string("write failed: ") + e.what());
+  } catch (...) {
+    RemoveQuietly(tmp_path);
+    throw;
+  }
+}
+
 std::vector<uint8_t> ReadFileBytes(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {

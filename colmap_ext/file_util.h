@@ -16,6 +16,12 @@ namespace mpmvs {
 void WriteFileAtomically(const std::string& path,
                          const std::function<void(std::ostream&)>& write);
 
+// Same for writers that take a file name (e.g. COLMAP's Mat::Write): write(tmp_path) must
+// create the file; it is then renamed to path. Any exception from write is rethrown as
+// Error naming path, and the temporary is removed.
+void WriteFileViaTemporaryPath(const std::string& path,
+                               const std::function<void(const std::string& tmp_path)>& write);
+
 // Whole file as bytes; Error naming the path when missing or unreadable.
 std::vector<uint8_t> ReadFileBytes(const std::string& path);
 
