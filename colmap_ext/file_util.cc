@@ -28,36 +28,6 @@ void RemoveQuietly(const std::string& path) {
 
 }  // namespace
 
-void WriteFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& write) {
-  const std::string tmp_path = TemporarySibling(path);
-  try {
-    {
-      std::ofstream file(tmp_path, std::ios::binary | std::ios::trunc);
-      if (!file.is_open()) {
-        ThrowFileError(path, std::string("cannot create file (") + std::strerror(errno) + ")");
-      }
-      write(file);
-      file.flush();
-      if (!file.good()) ThrowFileError(path, "write failed (disk full?)");
-      file.close();
-      if (file.fail()) ThrowFileError(path, "write failed when closing the file");
-    }
-    std::error_code ec;
-    fs::rename(tmp_path, path, ec);
-    if (ec) ThrowFileError(path, "cannot rename the temporary file into place (" + ec.message() + ")");
-  } catch (const Error&) {
-    RemoveQuietly(tmp_path);
-    throw;
-  } catch (const std::exception& e) {
-    RemoveQuietly(tmp_path);
-    ThrowFileError(path, std::string("write failed: ") + e.what());
-  } catch (...) {
-    RemoveQuietly(tmp_path);
-    throw;
-  }
-}
-
 void WriteFileViaTemporaryPath(const std::string& path,
                                const std::function<void(const std::string& tmp_path)>& write) {
   const std::string tmp_path = TemporarySibling(path);
@@ -77,6 +47,21 @@ void WriteFileViaTemporaryPath(const std::string& path,
     RemoveQuietly(tmp_path);
     throw;
   }
+}
+
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write) {
+  WriteFileViaTemporaryPath(path, [&](const std::string& tmp_path) {
+    std::ofstream file(tmp_path, std::ios::binary | std::ios::trunc);
+    if (!file.is_open()) {
+      ThrowFileError(path, std::string("cannot create file (") + std::strerror(errno) + ")");
+    }
+    write(file);
+    file.flush();
+    if (!file.good()) ThrowFileError(path, "write failed (disk full?)");
+    file.close();
+    if (file.fail()) ThrowFileError(path, "write failed when closing the file");
+  });
 }
 
 std::vector<uint8_t> ReadFileBytes(const std::string& path) {
