@@ -314,3 +314,21 @@ TEST(KernelNcc, SimdSpecialisationEqualsScalar) {
 }  // namespace
 }  // namespace kernels
 }  // namespace mpmvs
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+TEST(KernelNcc, ExpNegMatchesExpf) {
+  double worst = 0;
+  for (float x = 0.f; x < 40.f; x += 0.0137f) {
+    const double exact = std::exp(-static_cast<double>(x));
+    worst = std::max(worst, std::abs(ExpNeg(x) - exact) / exact);
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_EQ(ExpNeg(0.f), 1.f);
+}
+
+}  // namespace
+}  // namespace kernels
+}  // namespace mpmvs
