@@ -294,7 +294,7 @@ GrayImage DenseWorkspace::ReadGray(int view_idx) const {
   return image;
 }
 
-DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
+void CheckDenseWorkspaceFolders(const std::string& path) {
   if (!DirectoryExists(path)) ThrowFileError(path, "dense workspace folder does not exist");
   for (const char* sub : {"images", "sparse", "stereo"}) {
     const std::string dir = JoinPaths(path, sub);
@@ -303,6 +303,10 @@ DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
                           "one with `colmap image_undistorter --output_type COLMAP`");
     }
   }
+}
+
+DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
+  CheckDenseWorkspaceFolders(path);
   DenseWorkspace workspace;
   workspace.path = path;
   const std::string sparse_dir = JoinPaths(path, "sparse");

@@ -63,6 +63,9 @@ struct DenseWorkspace {
 // new_w/w and fy,cy by new_h/h.
 DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size);
 
+// Throws Error naming the path when it is not a folder with images/, sparse/ and stereo/.
+void CheckDenseWorkspaceFolders(const std::string& path);
+
 // Sets every view's depth_min/depth_max from the sparse points (model.points, tracks by
 // model.images' ids) exactly as COLMAP's mvs::Model::ComputeDepthRanges does, in float from
 // the float-rounded cameras and points, so that every loader that holds the same

@@ -34,19 +34,6 @@ struct Problem {
   float depth_min = 0, depth_max = 0;
 };
 
-Camera ToCamera(const DenseView& view) {
-  Camera c;
-  c.width = view.width;
-  c.height = view.height;
-  c.fx = static_cast<float>(view.K[0]);
-  c.fy = static_cast<float>(view.K[4]);
-  c.cx = static_cast<float>(view.K[2]);
-  c.cy = static_cast<float>(view.K[5]);
-  for (int i = 0; i < 9; ++i) c.R[i] = static_cast<float>(view.R[i]);
-  for (int i = 0; i < 3; ++i) c.t[i] = static_cast<float>(view.T[i]);
-  return c;
-}
-
 FloatMap ResultToState(const kernels::PatchMatchResult& r) {
   FloatMap state(r.width, r.height, kStateChannels);
   const size_t n = static_cast<size_t>(r.width) * r.height;
@@ -253,7 +240,7 @@ MpPatchMatchSummary Controller::Run() {
       cache_bytes / 2,
       [this](const std::pair<int, int>& key) {
         const FloatMap state = ReadFloatMap(StatePath(key.second, plan_.stages[key.first].name), kStateChannels);
-        return StateDepth(state, ToCamera(workspace_.views[key.second]), view_depth_min_[key.second],
+        return StateDepth(state, ToKernelCamera(workspace_.views[key.second]), view_depth_min_[key.second],
                           view_depth_max_[key.second]);
       },
       [](const std::vector<float>& d) { return d.size() * sizeof(float); });
@@ -349,7 +336,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
     }
     kernels::PatchMatchProblem problem;
     problem.image_id = static_cast<uint32_t>(p.ref);
-    problem.ref_camera = ToCamera(view);
+    problem.ref_camera = ToKernelCamera(view);
     problem.depth_min = p.depth_min;
     problem.depth_max = p.depth_max;
     kernels::PatchMatchResult result;
@@ -366,7 +353,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
       problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
       for (int src : p.src) {
         kernels::PatchMatchSource source;
-        source.camera = ToCamera(workspace_.views[src]);
+        source.camera = ToKernelCamera(workspace_.views[src]);
         if (stage.schedule.geometric) {
           const std::string src_state = StatePath(src, plan_.stages[stage.input].name);
           if (!view_depth_min_.count(src) || !FileExists(src_state)) {
@@ -484,6 +471,19 @@ MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run, WorkspaceI
   if (io == nullptr) throw Error("RunMpPatchMatchStereo: no workspace I/O given");
   Controller controller(run, io);
   return controller.Run();
+}
+
+kernels::Camera ToKernelCamera(const DenseView& view) {
+  kernels::Camera c;
+  c.width = view.width;
+  c.height = view.height;
+  c.fx = static_cast<float>(view.K[0]);
+  c.fy = static_cast<float>(view.K[4]);
+  c.cx = static_cast<float>(view.K[2]);
+  c.cy = static_cast<float>(view.K[5]);
+  for (int i = 0; i < 9; ++i) c.R[i] = static_cast<float>(view.R[i]);
+  for (int i = 0; i < 3; ++i) c.t[i] = static_cast<float>(view.T[i]);
+  return c;
 }
 
 MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run) {

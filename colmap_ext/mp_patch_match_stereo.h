@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "colmap_ext/dense_workspace.h"
 #include "colmap_ext/patch_match_options.h"
 #include "kernels/patch_match.h"
 
@@ -45,6 +46,9 @@ struct MpPatchMatchRun {
   PatchMatchStereoOptions colmap_options;
   MpMvsOptions options;
 };
+
+// The kernels' float camera of a workspace view (same size, K, R, t).
+kernels::Camera ToKernelCamera(const DenseView& view);
 
 // Throws Error with a clear message on bad input; never leaves partial map files.
 // Uses mp-mvs's own I/O (MpMvsWorkspaceIo).

@@ -33,19 +33,6 @@ std::string ScratchDir(const std::string& name) {
   return dir.string();
 }
 
-kernels::Camera ToCamera(const DenseView& view) {
-  kernels::Camera c;
-  c.width = view.width;
-  c.height = view.height;
-  c.fx = view.K[0];
-  c.fy = view.K[4];
-  c.cx = view.K[2];
-  c.cy = view.K[5];
-  for (int i = 0; i < 9; ++i) c.R[i] = view.R[i];
-  for (int i = 0; i < 3; ++i) c.t[i] = view.T[i];
-  return c;
-}
-
 // Photometric mPM stage (9 iterations) of one 640x480 reference image with 4 sources of the
 // synthetic plane scene, on `threads` threads.
 void BM_PhotometricStage(benchmark::State& state) {
@@ -66,10 +53,10 @@ void BM_PhotometricStage(benchmark::State& state) {
   std::vector<GrayImage> images;
   for (size_t i = 0; i < ws.views.size(); ++i) images.push_back(ws.ReadGray(static_cast<int>(i)));
   kernels::PatchMatchProblem problem;
-  problem.ref_camera = ToCamera(ws.views[0]);
+  problem.ref_camera = ToKernelCamera(ws.views[0]);
   problem.ref_image = {images[0].data.data(), images[0].width, images[0].height};
   for (size_t s = 1; s < images.size(); ++s) {
-    problem.sources.push_back({{images[s].data.data(), images[s].width, images[s].height}, ToCamera(ws.views[s]), nullptr});
+    problem.sources.push_back({{images[s].data.data(), images[s].width, images[s].height}, ToKernelCamera(ws.views[s]), nullptr});
   }
   problem.depth_min = ws.views[0].depth_min;
   problem.depth_max = ws.views[0].depth_max;

@@ -38,14 +38,7 @@ class ColmapWorkspaceIo : public WorkspaceIo {
   std::string Name() const override { return colmap::GetVersionInfo() + " mvs::Workspace"; }
 
   DenseWorkspace Load(const std::string& path, int max_image_size) override {
-    if (!DirectoryExists(path)) ThrowFileError(path, "dense workspace folder does not exist");
-    for (const char* sub : {"images", "sparse", "stereo"}) {
-      const std::string dir = JoinPaths(path, sub);
-      if (!DirectoryExists(dir)) {
-        ThrowFileError(dir, "folder is missing, so this is not a COLMAP dense workspace; create "
-                            "one with `colmap image_undistorter --output_type COLMAP`");
-      }
-    }
+    CheckDenseWorkspaceFolders(path);
     const std::string sparse_dir = JoinPaths(path, "sparse");
 
     // The cameras: COLMAP's mvs::Model keeps only K, so check the camera models here.
