@@ -59,21 +59,13 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
                       PatchMatchResult* result, const ProgressCallback& progress) {
   schedule.Check();
   std::vector<SourceView> sources = MakeSourceViews(problem);
-  // Row-pair copies of the source images for the vectorised NCC (2x image memory).
-  std::vector<std::vector<float>> pairs(sources.size());
+#if defined(MPMVS_HAVE_SIMD_NCC)
+  // Packed-neighbour copies of 8-bit source images for the vectorised NCC (+1x image memory).
+  std::vector<std::vector<uint32_t>> quads(sources.size());
   for (size_t s = 0; s < sources.size(); ++s) {
-    const ImageView& img = sources[s].image;
-    pairs[s].resize(2 * static_cast<size_t>(img.width) * img.height);
-    for (int y = 0; y < img.height; ++y) {
-      const float* row = img.data + static_cast<size_t>(y) * img.width;
-      float* out = pairs[s].data() + 2 * static_cast<size_t>(y) * img.width;
-      for (int x = 0; x < img.width; ++x) {
-        out[2 * x] = row[x];
-        out[2 * x + 1] = row[x + 1 < img.width ? x + 1 : x];
-      }
-    }
-    sources[s].image.pairs = pairs[s].data();
+    if (MakeQuadImage(sources[s].image, &quads[s])) sources[s].image.quads = quads[s].data();
   }
+#endif
   PassParams params = MakePassParams(problem, schedule, sources.data());
   const int W = problem.ref_camera.width, H = problem.ref_camera.height;
   ResetResult(W, H, result);

@@ -4,6 +4,7 @@
 // pixel and the window scale, so it is computed once per pixel update (RefPatch) and reused
 // for every hypothesis and source view.
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "kernels/camera.h"
@@ -16,10 +17,10 @@ struct ImageView {
   const float* data = nullptr;
   int width = 0;
   int height = 0;
-  // Optional CPU-only copy with horizontal neighbours side by side:
-  // pairs[2 * (y * width + x) + k] = I(min(x + k, width - 1), y), k = 0, 1. One 64-bit
-  // gather then fetches both pixels a bilinear sample needs from a row (ncc_simd.h).
-  const float* pairs = nullptr;
+  // Optional CPU-only copy for 8-bit images: quads[y * width + x] packs the four bilinear
+  // neighbours I(x, y), I(x+1, y), I(x, y+1), I(x+1, y+1) (clamped to the image) as bytes,
+  // so one 32-bit gather fetches a whole bilinear sample (ncc_simd.h, MakeQuadImage).
+  const uint32_t* quads = nullptr;
 };
 
 // Window of scale S: edge L = 2^S*10+1, 6x6 samples with spacing 2^(S+1) (radius 5*2^S).

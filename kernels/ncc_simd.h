@@ -2,6 +2,8 @@
 // AVX2/FMA specialisation of ComputeNccCost for the CPU backend: 8 window samples per
 // instruction with gathered bilinear fetches. Same inputs, same result as the scalar
 // version within float rounding (tests/kernels_test.cc checks it). Host only.
+#include <vector>
+
 #include "kernels/ncc.h"
 
 #if defined(__AVX2__) && defined(__FMA__) && !defined(__CUDACC__)
@@ -28,6 +30,8 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
   const __m256i ylast = _mm256_set1_epi32(src.height - 1);
   const __m256i one = _mm256_set1_epi32(1);
   const __m256 shift = _mm256_set1_ps(patch.centre);
+  const __m256i tail_mask = _mm256_cmpgt_epi32(
+      _mm256_set1_epi32(kWindowSamples % 8), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   __m256 sum_s = zero, sum_ss = zero, sum_rs = zero;
   for (int b = 0; b < kWindowSamplesPadded; b += 8) {
     const __m256 x = _mm256_add_ps(vu, _mm256_loadu_ps(patch.offset_x + b));
@@ -43,35 +47,29 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
     const __m256i y0 = _mm256_cvttps_epi32(sy);
     const __m256 fx = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(x0));
     const __m256 fy = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
-    const __m256i x1 = _mm256_min_epi32(_mm256_add_epi32(x0, one), xlast);
-    const __m256i y1 = _mm256_min_epi32(_mm256_add_epi32(y0, one), ylast);
     const __m256i r0 = _mm256_mullo_epi32(y0, width);
-    const __m256i r1 = _mm256_mullo_epi32(y1, width);
     __m256 value;
-    if (src.pairs) {
-      // Two 64-bit gathers per row fetch (I(x0), I(x0+1)) for 8 samples; the shuffles
-      // leave lanes in the order 0,1,4,5,2,3,6,7, so fx/fy are permuted alike and the
-      // result is permuted back.
-      const __m256i i0 = _mm256_add_epi32(r0, x0);
-      const __m256i i1 = _mm256_add_epi32(r1, x0);
-      const double* pairs = reinterpret_cast<const double*>(src.pairs);
-      const __m256 t_lo = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_castsi256_si128(i0), 8));
-      const __m256 t_hi = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_extracti128_si256(i0, 1), 8));
-      const __m256 b_lo = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_castsi256_si128(i1), 8));
-      const __m256 b_hi = _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_extracti128_si256(i1, 1), 8));
-      const __m256 p00 = _mm256_shuffle_ps(t_lo, t_hi, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m256 p01 = _mm256_shuffle_ps(t_lo, t_hi, _MM_SHUFFLE(3, 1, 3, 1));
-      const __m256 p10 = _mm256_shuffle_ps(b_lo, b_hi, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m256 p11 = _mm256_shuffle_ps(b_lo, b_hi, _MM_SHUFFLE(3, 1, 3, 1));
-      // Lane order after the shuffles: 0,1,4,5,2,3,6,7 (64-bit lanes 0,2,1,3).
-      const __m256 fxq = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(fx), _MM_SHUFFLE(3, 1, 2, 0)));
-      const __m256 fyq = _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(fy), _MM_SHUFFLE(3, 1, 2, 0)));
-      const __m256 top = _mm256_fmadd_ps(fxq, _mm256_sub_ps(p01, p00), p00);
-      const __m256 bottom = _mm256_fmadd_ps(fxq, _mm256_sub_ps(p11, p10), p10);
-      const __m256 vq = _mm256_fmadd_ps(fyq, _mm256_sub_ps(bottom, top), top);
-      value = _mm256_sub_ps(
-          _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(vq), _MM_SHUFFLE(3, 1, 2, 0))), shift);
+    if (src.quads) {
+      // One gather brings the four neighbours of 8 samples, one byte each.
+      // The last block holds only kWindowSamples % 8 real samples: skip the padding loads.
+      const int* base = reinterpret_cast<const int*>(src.quads);
+      const __m256i index = _mm256_add_epi32(r0, x0);
+      const __m256i q =
+          b + 8 <= kWindowSamples
+              ? _mm256_i32gather_epi32(base, index, 4)
+              : _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, index, tail_mask, 4);
+      const __m256i byte = _mm256_set1_epi32(0xff);
+      const __m256 p00 = _mm256_cvtepi32_ps(_mm256_and_si256(q, byte));
+      const __m256 p01 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 8), byte));
+      const __m256 p10 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 16), byte));
+      const __m256 p11 = _mm256_cvtepi32_ps(_mm256_srli_epi32(q, 24));
+      const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
+      const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
+      value = _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
     } else {
+      const __m256i x1 = _mm256_min_epi32(_mm256_add_epi32(x0, one), xlast);
+      const __m256i y1 = _mm256_min_epi32(_mm256_add_epi32(y0, one), ylast);
+      const __m256i r1 = _mm256_mullo_epi32(y1, width);
       const __m256 p00 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x0), 4);
       const __m256 p01 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x1), 4);
       const __m256 p10 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x0), 4);
@@ -95,6 +93,32 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
   if (var_s < kMinNccVariance) return kInvalidCost;
   const float cov = rs - patch.mean * s;
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
+}
+
+// Packs an 8-bit image into ImageView::quads. Returns false, leaving quads empty, when a
+// value is not an integer in 0..255 (then the float path is used): bytes must be exact.
+inline bool MakeQuadImage(const ImageView& img, std::vector<uint32_t>* quads) {
+  const size_t n = static_cast<size_t>(img.width) * img.height;
+  for (size_t i = 0; i < n; ++i) {
+    const float value = img.data[i];
+    if (!(value >= 0.f && value <= 255.f) || value != static_cast<float>(static_cast<int>(value))) {
+      quads->clear();
+      return false;
+    }
+  }
+  quads->resize(n);
+  auto at = [&](int x, int y) {
+    x = x < img.width ? x : img.width - 1;
+    y = y < img.height ? y : img.height - 1;
+    return static_cast<uint32_t>(img.data[static_cast<size_t>(y) * img.width + x]);
+  };
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      (*quads)[static_cast<size_t>(y) * img.width + x] =
+          at(x, y) | at(x + 1, y) << 8 | at(x, y + 1) << 16 | at(x + 1, y + 1) << 24;
+    }
+  }
+  return true;
 }
 
 struct SimdNcc {

@@ -278,15 +278,17 @@ TEST(KernelNcc, SimdSpecialisationEqualsScalar) {
   std::vector<float> ref = RandomImage(W, H, 11), src = RandomImage(W, H, 12);
   for (size_t i = 0; i < src.size(); ++i) src[i] = 0.5f * src[i] + 0.5f * ref[i];
   const ImageView rv{ref.data(), W, H}, sv{src.data(), W, H};
-  std::vector<float> pairs(2 * src.size());
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      pairs[2 * (y * W + x)] = src[y * W + x];
-      pairs[2 * (y * W + x) + 1] = src[y * W + std::min(x + 1, W - 1)];
-    }
-  }
-  ImageView sv_pairs = sv;
-  sv_pairs.pairs = pairs.data();
+  // The packed 8-bit layout the CPU backend builds needs integer grey values.
+  for (float& value : src) value = std::round(value);
+  std::vector<uint32_t> quads;
+  ASSERT_TRUE(MakeQuadImage(sv, &quads));
+  ImageView sv_quads = sv;
+  sv_quads.quads = quads.data();
+  std::vector<float> fractional = src;
+  fractional[W + 1] += 0.5f;
+  std::vector<uint32_t> refused;
+  EXPECT_FALSE(MakeQuadImage(ImageView{fractional.data(), W, H}, &refused));
+  EXPECT_TRUE(refused.empty());
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
   int compared = 0;
@@ -301,9 +303,9 @@ TEST(KernelNcc, SimdSpecialisationEqualsScalar) {
       const float a = ComputeNccCost(patch, sv, H9, u, v, WindowForScale(scale));
       const float b = ComputeNccCostSimd(patch, sv, H9, u, v, WindowForScale(scale));
       EXPECT_NEAR(a, b, 2e-4f) << "u=" << u << " v=" << v << " scale=" << scale;
-      // The row-pair layout the CPU backend builds gives the same costs.
-      const float c = ComputeNccCostSimd(patch, sv_pairs, H9, u, v, WindowForScale(scale));
-      EXPECT_NEAR(a, c, 2e-4f) << "pairs u=" << u << " v=" << v << " scale=" << scale;
+      // The packed 8-bit layout the CPU backend builds gives the same costs.
+      const float c = ComputeNccCostSimd(patch, sv_quads, H9, u, v, WindowForScale(scale));
+      EXPECT_NEAR(a, c, 2e-4f) << "quads u=" << u << " v=" << v << " scale=" << scale;
       ++compared;
     }
   }
