@@ -103,6 +103,21 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
   }
 }
 
+float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,
+                        const WindowSpec& window) {
+  return CpuNcc::Cost(patch, src, H, u, v, window);
+}
+
+const char* CpuBackendNccName() {
+#if defined(MPMVS_HAVE_SIMD_NCC) && defined(__AVX512F__)
+  return "AVX-512";
+#elif defined(MPMVS_HAVE_SIMD_NCC)
+  return "AVX2";
+#else
+  return "scalar";
+#endif
+}
+
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result) {
   const std::vector<SourceView> sources = MakeSourceViews(problem);

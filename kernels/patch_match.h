@@ -85,6 +85,13 @@ using ProgressCallback = std::function<void(int, int)>;
 void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
                       PatchMatchResult* result, const ProgressCallback& progress = nullptr);
 
+// The NCC cost the CPU backend runs, compiled with its flags (vectorised where the build
+// allows), so tests can hold it against the shared scalar ComputeNccCost; and its name:
+// "AVX-512", "AVX2" or "scalar". src.quads is used when set (MakeQuadImage).
+float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,
+                        const WindowSpec& window);
+const char* CpuBackendNccName();
+
 // Whether a CUDA device can be used (false with the reason in *why when the build has no
 // CUDA or no device/driver is present: any CUDA error counts as "no device").
 bool CudaDeviceAvailable(int gpu_index, std::string* why);
