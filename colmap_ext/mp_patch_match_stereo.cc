@@ -417,6 +417,9 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
                 std::to_string(100 * labelled / prior.label.size()) + "% of pixels covered");
       }
       backend_->Run(problem, stage.schedule, &result);
+      // The reference pipeline median-filters every run's depths (ALGORITHM.md 9.1); later
+      // stages, the planar prior and the outputs all see the filtered result.
+      kernels::MedianFilterDepths(problem.ref_camera, p.depth_min, p.depth_max, &result);
       const FloatMap state = ResultToState(result);
       WriteFloatMap(state_path, state);
       if (run_.options.write_pictures) {

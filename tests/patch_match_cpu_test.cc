@@ -180,3 +180,61 @@ TEST(PatchMatchCpu, DeterministicAcrossThreadCounts) {
 }  // namespace
 }  // namespace kernels
 }  // namespace mpmvs
+
+namespace mpmvs {
+namespace kernels {
+namespace {
+
+// A 24x20 result whose every pixel holds the same slanted plane, with costs 0.5.
+PatchMatchResult SlantedPlaneResult(const Camera& cam, const Plane& plane) {
+  PatchMatchResult r;
+  ResetResult(cam.width, cam.height, &r);
+  for (int i = 0; i < cam.width * cam.height; ++i) {
+    StorePlane(r.plane.data(), i, plane);
+    r.cost[i] = 0.5f;
+    r.photo_cost[i] = 0.5f;
+  }
+  return r;
+}
+
+float DepthAt(const PatchMatchResult& r, const Camera& cam, int u, int v) {
+  return PlaneDepth(LoadPlane(r.plane.data(), v * cam.width + u), PixelRay(cam, float(u), float(v)));
+}
+
+TEST(MedianFilterDepths, KeepsSlantedPlaneAndRemovesOutliers) {
+  Camera cam;
+  cam.width = 24;
+  cam.height = 20;
+  cam.fx = cam.fy = 30.f;
+  cam.cx = 12.f;
+  cam.cy = 10.f;
+  const Plane plane = PlaneFromDepthNormal(PixelRay(cam, 12.f, 10.f), 5.f, Normalize(Vec3{0.5f, 0.3f, -1.f}));
+  PatchMatchResult r = SlantedPlaneResult(cam, plane);
+  const Plane outlier_plane = PlaneFromDepthNormal(PixelRay(cam, 7.f, 6.f), 8.f, Vec3{0.f, 0.f, -1.f});
+  StorePlane(r.plane.data(), 6 * cam.width + 7, outlier_plane);   // a wrong depth
+  StorePlane(r.plane.data(), 12 * cam.width + 15, outlier_plane);  // a wrong depth, but cost ~0
+  r.cost[12 * cam.width + 15] = 0.0005f;
+  r.photo_cost[3 * cam.width + 20] = kInvalidCost;  // an invalid pixel: neither read nor changed
+  StorePlane(r.plane.data(), 3 * cam.width + 20, outlier_plane);
+
+  MedianFilterDepths(cam, 1.f, 20.f, &r);
+  // The outlier takes the surface depth; its normal is kept.
+  EXPECT_NEAR(DepthAt(r, cam, 7, 6), PlaneDepth(plane, PixelRay(cam, 7.f, 6.f)), 1e-3f);
+  EXPECT_FLOAT_EQ(LoadPlane(r.plane.data(), 6 * cam.width + 7).n.z, -1.f);
+  // Near-perfect matches and invalid pixels are left alone.
+  EXPECT_NEAR(DepthAt(r, cam, 15, 12), PlaneDepth(outlier_plane, PixelRay(cam, 15.f, 12.f)), 1e-5f);
+  EXPECT_NEAR(DepthAt(r, cam, 20, 3), PlaneDepth(outlier_plane, PixelRay(cam, 20.f, 3.f)), 1e-5f);
+  // Every other pixel still lies on the slanted plane, borders included: the median is taken
+  // over the neighbours' planes on the pixel's own ray, not over raw neighbour depths.
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      if ((u == 15 && v == 12) || (u == 20 && v == 3)) continue;
+      EXPECT_NEAR(DepthAt(r, cam, u, v), PlaneDepth(plane, PixelRay(cam, float(u), float(v))), 1e-3f)
+          << "u=" << u << " v=" << v;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace kernels
+}  // namespace mpmvs

@@ -101,10 +101,9 @@ TEST(Pipeline, TiltedPlaneSceneMeetsAccuracyTarget) {
               acc.considered, 100 * acc.depth_within, 100 * acc.normal_within);
   EXPECT_GT(acc.considered, 4 * 200 * 150 / 3);
   EXPECT_GE(acc.depth_within, 0.98);
-  // Issue #4 asks for 98 % of normals within 5 degrees; measured 96.4 % (the photometric
-  // stage reaches ~99 % in the interior, the later 11 px stages drift; README "Status").
-  // The bar keeps a margin for other CPUs' float rounding.
-  EXPECT_GE(acc.normal_within, 0.95);
+  // Issue #4: 98 % of normals within 5 degrees (measured 98.8 %; 96.3 % before the per-run
+  // median filter of kernels/DESIGN.md, which this bar would catch).
+  EXPECT_GE(acc.normal_within, 0.98);
 }
 
 TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
