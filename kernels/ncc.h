@@ -42,10 +42,19 @@ MPMVS_HD MPMVS_FORCE_INLINE int WindowSide(const WindowSpec& w) { return 2 * w.r
 // Offset of sample k (0..5) along an axis.
 MPMVS_HD MPMVS_FORCE_INLINE int WindowOffset(const WindowSpec& w, int k) { return -w.radius + k * w.step; }
 
-// Bilateral weight constants of ACMH (distances unsquared, as in the reference code).
+// Bilateral weight constants (distances unsquared, as in the reference code). σ_c is 2.5,
+// not ACMH's 3: measured on real and synthetic scenes, kernels/DESIGN.md item 11.
 constexpr float kSigmaSpatial = 5.0f;
-constexpr float kSigmaColor = 3.0f;
+constexpr float kSigmaColor = 2.5f;
 constexpr float kMinNccVariance = 1e-5f;
+
+// Whether a source patch is flat. Its variance E[x^2] - E[x]^2 is computed on values shifted
+// by the reference centre, so a flat patch at offset c leaves float rounding of order
+// c^2 * 1e-7: the floor grows with E[x^2] to stay above that (x^2 <= 255^2 keeps it below
+// 0.7 grey levels^2, far under any real texture).
+MPMVS_HD MPMVS_FORCE_INLINE bool SourcePatchIsFlat(float var_s, float mean_square) {
+  return var_s < kMinNccVariance * (1.f + mean_square);
+}
 
 // e^-x for x >= 0, inline and branch-free (the reference-patch weights need 36 of these per
 // pixel update; libm's expf is a call). Relative error below 1e-5.
@@ -177,7 +186,7 @@ MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src
     }
   }
   const float var_s = sum_ss - sum_s * sum_s;
-  if (var_s < kMinNccVariance) return kInvalidCost;
+  if (SourcePatchIsFlat(var_s, sum_ss)) return kInvalidCost;
   const float cov = sum_rs - patch.mean * sum_s;
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }

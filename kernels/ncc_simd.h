@@ -97,7 +97,7 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
   const float s = _mm512_reduce_add_ps(sum_s), ss = _mm512_reduce_add_ps(sum_ss);
   const float rs = _mm512_reduce_add_ps(sum_rs);
   const float var_s = ss - s * s;
-  if (var_s < kMinNccVariance) return kInvalidCost;
+  if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
   const float cov = rs - patch.mean * s;
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }
@@ -189,7 +189,7 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
   };
   const float s = hsum(sum_s), ss = hsum(sum_ss), rs = hsum(sum_rs);
   const float var_s = ss - s * s;
-  if (var_s < kMinNccVariance) return kInvalidCost;
+  if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
   const float cov = rs - patch.mean * s;
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }
