@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "colmap_ext/stage_plan.h"
 #include "colmap_ext/visualization.h"
 #include "colmap_ext/workspace_io.h"
+#include "kernels/cuda_session.h"
 
 namespace mpmvs {
 namespace {
@@ -79,9 +81,13 @@ std::vector<float> StateDepth(const FloatMap& state, const Camera& camera, float
   return depth;
 }
 
+// Runs the problems of the stages on the CPU or in one CUDA session kept for the whole run
+// (device cache of images and depth maps, uploads of the next reference image while the
+// current one runs: kernels/cuda_session.h).
 class Backend {
  public:
-  Backend(const PatchMatchStereoOptions& options) {
+  Backend(const PatchMatchStereoOptions& options, bool cpu_look_ahead)
+      : cpu_look_ahead_(cpu_look_ahead) {
     std::string why;
     int index = -1;
     std::stringstream ss(options.gpu_index);
@@ -90,9 +96,13 @@ class Backend {
     index = std::stoi(first);
     const int device = index < 0 ? 0 : index;
     if (kernels::CudaDeviceAvailable(device, &why)) {
-      use_cuda_ = true;
-      device_ = device;
+      kernels::CudaSessionOptions session;
+      session.gpu_index = device;
+      session.cache_size_bytes = static_cast<size_t>(options.cache_size * 1024.0 * 1024.0 * 1024.0);
+      cuda_ = std::make_unique<kernels::CudaSession>(session);
       name_ = "CUDA device " + std::to_string(device);
+      LogInfo("CUDA device cache budget: " + std::to_string(cuda_->CacheBudgetBytes() >> 20) +
+              " MB (--PatchMatchStereo.cache_size, at most half the free device memory)");
     } else {
       const int threads = options.num_threads > 0 ? options.num_threads
                                                   : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -101,20 +111,52 @@ class Backend {
               std::to_string(threads) + " threads");
     }
   }
+  // next: the following reference image of the stage, assembled on demand. The CUDA session
+  // calls it while this problem's kernels run; the CPU backend does not call it (the
+  // controller then assembles that image after this one, as always), unless cpu_look_ahead.
   void Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
-           kernels::PatchMatchResult* result) const {
-    if (use_cuda_) {
-      kernels::RunPatchMatchCuda(problem, schedule, device_, result);
+           kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next) {
+    if (cuda_) {
+      cuda_->Run(problem, schedule, result, next);
     } else {
+      if (cpu_look_ahead_ && next) next();
       kernels::RunPatchMatchCpu(problem, schedule, result);
     }
   }
   const std::string& Name() const { return name_; }
+  void LogCacheStats() const {
+    if (!cuda_) return;
+    const kernels::DeviceCacheStats s = cuda_->CacheStats();
+    LogInfo("CUDA device cache: " + std::to_string(s.misses) + " images/depth maps uploaded, " +
+            std::to_string(s.hits) + " found on the device, " + std::to_string(s.evictions) +
+            " evicted, peak " + std::to_string(s.peak_bytes >> 20) + " MB of " +
+            std::to_string(cuda_->CacheBudgetBytes() >> 20) + " MB; " +
+            std::to_string(s.uploaded_bytes >> 20) + " MB uploaded in all");
+    if (s.over_budget_problems > 0) {
+      LogWarning(std::to_string(s.over_budget_problems) +
+                 " reference images needed more device memory for their images and depth maps "
+                 "than the cache budget and ran over it; raise --PatchMatchStereo.cache_size");
+    }
+  }
 
  private:
-  bool use_cuda_ = false;
-  int device_ = 0;
+  bool cpu_look_ahead_ = false;
+  std::unique_ptr<kernels::CudaSession> cuda_;
   std::string name_;
+};
+
+// One reference image of a stage, ready to compute (or to resume / skip). Owns the data
+// pm's pointers refer to.
+struct StageReference {
+  enum class Action { kFinalMapsExist, kResume, kNoSources, kCompute };
+  Action action = Action::kCompute;
+  const Problem* problem = nullptr;
+  bool filter_here = false;
+  kernels::PatchMatchProblem pm;
+  std::vector<std::shared_ptr<const GrayImage>> images;
+  std::vector<std::shared_ptr<const std::vector<float>>> depths;
+  kernels::PatchMatchResult input;  // the input stage's planes and costs (pm.init_*)
+  PlanarPriorModel prior;           // pm.prior_*
 };
 
 class Controller {
@@ -133,6 +175,9 @@ class Controller {
             FileExists(workspace_.ConsistencyGraphPath(view, type)));
   }
   void LoadProblems();
+  // Loads and assembles reference image p of a stage (images, source depth maps, initial
+  // state, planar prior); decides whether it is computed, resumed or skipped.
+  std::unique_ptr<StageReference> PrepareReference(int stage_index, const Problem& p);
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   void WriteFinal(const Problem& problem, const kernels::PatchMatchProblem& pm_problem,
                   const kernels::PatchMatchResult& result, const std::string& type);
@@ -230,7 +275,7 @@ MpPatchMatchSummary Controller::Run() {
     if (FinalOutputsExist(p.ref, final_type) && !run_.options.overwrite) ++summary.num_already_done;
   }
 
-  backend_ = std::make_unique<Backend>(run_.colmap_options);
+  backend_ = std::make_unique<Backend>(run_.colmap_options, run_.cpu_look_ahead);
   summary.backend = backend_->Name();
   const size_t cache_bytes = static_cast<size_t>(run_.colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
   images_ = std::make_unique<LruCache<int, GrayImage>>(
@@ -264,6 +309,7 @@ MpPatchMatchSummary Controller::Run() {
           }());
 
   for (size_t s = 0; s < plan_.stages.size(); ++s) RunStage(static_cast<int>(s), &summary);
+  backend_->LogCacheStats();
 
   summary.num_written = static_cast<int>(problems_.size()) - summary.num_already_done;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -312,6 +358,101 @@ void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchPro
   }
 }
 
+std::unique_ptr<StageReference> Controller::PrepareReference(int stage_index, const Problem& p) {
+  const StagePlan& stage = plan_.stages[stage_index];
+  auto ref = std::make_unique<StageReference>();
+  ref->problem = &p;
+  const DenseView& view = workspace_.views[p.ref];
+  const std::string final_type = plan_.geometric_output >= 0 ? "geometric" : "photometric";
+  if (FinalOutputsExist(p.ref, final_type) && !run_.options.overwrite) {
+    ref->action = StageReference::Action::kFinalMapsExist;
+    return ref;
+  }
+  const bool writes_photometric = stage_index == plan_.photometric_output;
+  const bool writes_geometric = stage_index == plan_.geometric_output;
+  kernels::PatchMatchProblem& problem = ref->pm;
+  problem.image_id = static_cast<uint32_t>(p.ref);
+  problem.ref_image_id = static_cast<uint32_t>(p.ref);  // device cache ids: view indices
+  problem.ref_camera = ToKernelCamera(view);
+  problem.depth_min = p.depth_min;
+  problem.depth_max = p.depth_max;
+
+  const bool have_state = FileExists(StatePath(p.ref, stage.name)) && !run_.options.overwrite;
+  ref->filter_here = run_.colmap_options.filter &&
+                     ((writes_geometric) || (writes_photometric && plan_.geometric_output < 0));
+  // Images and source depth maps: needed to compute the stage, and by the output filter.
+  if (!have_state || ref->filter_here) {
+    auto ref_image = images_->Get(p.ref);
+    ref->images.push_back(ref_image);
+    problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
+    if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
+    for (int src : p.src) {
+      kernels::PatchMatchSource source;
+      source.camera = ToKernelCamera(workspace_.views[src]);
+      source.image_id = static_cast<uint32_t>(src);
+      if (stage.schedule.geometric) {
+        const std::string src_state = StatePath(src, plan_.stages[stage.input].name);
+        if (!view_depth_min_.count(src) || !FileExists(src_state)) {
+          LogWarning(view.name + ": source " + workspace_.views[src].name + " has no " +
+                     plan_.stages[stage.input].name + " result; left out of this stage");
+          continue;
+        }
+        ref->depths.push_back(depths_->Get({stage.input, src}));
+        source.depth_map = ref->depths.back()->data();
+      }
+      auto img = images_->Get(src);
+      ref->images.push_back(img);
+      source.image = kernels::ImageView{img->data.data(), img->width, img->height};
+      problem.sources.push_back(source);
+    }
+  }
+  if (have_state) {
+    ref->action = StageReference::Action::kResume;
+    return ref;
+  }
+  if (problem.sources.empty()) {
+    ref->action = StageReference::Action::kNoSources;
+    return ref;
+  }
+  ref->action = StageReference::Action::kCompute;
+  FloatMap input_state;
+  if (stage.input >= 0) {
+    input_state = ReadFloatMap(StatePath(p.ref, plan_.stages[stage.input].name), kStateChannels);
+    if (input_state.width != view.width || input_state.height != view.height) {
+      ThrowFileError(StatePath(p.ref, plan_.stages[stage.input].name),
+                     "size differs from the image; delete stereo/mpmvs to start over");
+    }
+    StateToResult(input_state, &ref->input);
+    problem.init_plane = ref->input.plane.data();
+    problem.init_cost = ref->input.cost.data();
+  }
+  if (stage.kind == StageKind::kPlanarPrior) {
+    PlanarPriorOptions po;
+    const MpMvsOptions& o = run_.options;
+    po.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
+                                                   : PlanarPriorOptions::Selection::kPhotometric;
+    po.cell_size = o.prior_cell_size;
+    po.points_per_cell = o.prior_points_per_cell;
+    po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
+    po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
+    po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
+    po.max_depth_jump = static_cast<float>(o.prior_max_depth_jump);
+    po.max_edge_fraction = static_cast<float>(o.prior_max_edge);
+    const std::vector<float> depth = StateDepth(input_state, problem.ref_camera, p.depth_min, p.depth_max);
+    ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
+                                  p.depth_min, p.depth_max, po);
+    problem.prior_plane = ref->prior.plane.data();
+    problem.prior_label = ref->prior.label.data();
+    size_t labelled = 0;
+    for (uint8_t l : ref->prior.label) labelled += l;
+    LogInfo(view.name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) + " vertices, " +
+            std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
+            std::to_string(ref->prior.num_rejected_triangles) + " rejected), " +
+            std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
+  }
+  return ref;
+}
+
 void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
   const StagePlan& stage = plan_.stages[stage_index];
   StageSummary stage_summary;
@@ -323,129 +464,79 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
   ProgressReporter progress("stage " + stage.name, static_cast<int>(problems_.size()));
   const bool writes_photometric = stage_index == plan_.photometric_output;
   const bool writes_geometric = stage_index == plan_.geometric_output;
-  const std::string final_type = plan_.geometric_output >= 0 ? "geometric" : "photometric";
 
-  for (const Problem& p : problems_) {
+  // The next reference image, when the backend had it assembled while this one ran (CUDA:
+  // its uploads overlap this image's kernels). Only within a stage: the first image of the
+  // next stage reads this stage's results, the last of which is still being computed. An
+  // error assembling it is raised where it would have been without looking ahead.
+  std::unique_ptr<StageReference> ahead;
+  std::exception_ptr ahead_error;
+  for (size_t i = 0; i < problems_.size(); ++i) {
+    if (ahead_error) std::rethrow_exception(ahead_error);
+    const std::unique_ptr<StageReference> ref =
+        ahead ? std::move(ahead) : PrepareReference(stage_index, problems_[i]);
+    const Problem& p = *ref->problem;
     const DenseView& view = workspace_.views[p.ref];
     const std::string state_path = StatePath(p.ref, stage.name);
-    const bool final_done = FinalOutputsExist(p.ref, final_type) && !run_.options.overwrite;
-    if (final_done) {
-      ++stage_summary.images_resumed;
-      progress.Step(view.name + " (final maps exist, skipped)");
-      continue;
-    }
-    kernels::PatchMatchProblem problem;
-    problem.image_id = static_cast<uint32_t>(p.ref);
-    problem.ref_camera = ToKernelCamera(view);
-    problem.depth_min = p.depth_min;
-    problem.depth_max = p.depth_max;
+    const kernels::PatchMatchProblem& problem = ref->pm;
     kernels::PatchMatchResult result;
-
-    const bool have_state = FileExists(state_path) && !run_.options.overwrite;
-    const bool filter_here = run_.colmap_options.filter && ((writes_geometric) ||
-                                                            (writes_photometric && plan_.geometric_output < 0));
-    // Images and source depth maps: needed to compute the stage, and by the output filter.
-    std::vector<std::shared_ptr<const GrayImage>> keep_images;
-    std::vector<std::shared_ptr<const std::vector<float>>> keep_depths;
-    if (!have_state || filter_here) {
-      auto ref_image = images_->Get(p.ref);
-      keep_images.push_back(ref_image);
-      problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
-      for (int src : p.src) {
-        kernels::PatchMatchSource source;
-        source.camera = ToKernelCamera(workspace_.views[src]);
-        if (stage.schedule.geometric) {
-          const std::string src_state = StatePath(src, plan_.stages[stage.input].name);
-          if (!view_depth_min_.count(src) || !FileExists(src_state)) {
-            LogWarning(view.name + ": source " + workspace_.views[src].name + " has no " +
-                       plan_.stages[stage.input].name + " result; left out of this stage");
-            continue;
-          }
-          keep_depths.push_back(depths_->Get({stage.input, src}));
-          source.depth_map = keep_depths.back()->data();
-        }
-        auto img = images_->Get(src);
-        keep_images.push_back(img);
-        source.image = kernels::ImageView{img->data.data(), img->width, img->height};
-        problem.sources.push_back(source);
-      }
-    }
-    if (have_state) {
-      StateToResult(ReadFloatMap(state_path, kStateChannels), &result);
-      ++stage_summary.images_resumed;
-    } else {
-      if (problem.sources.empty()) {
+    switch (ref->action) {
+      case StageReference::Action::kFinalMapsExist:
+        ++stage_summary.images_resumed;
+        progress.Step(view.name + " (final maps exist, skipped)");
+        continue;
+      case StageReference::Action::kNoSources:
         LogWarning(view.name + ": no usable source views in stage " + stage.name + "; skipped");
         progress.Step(view.name + " (skipped)");
         continue;
-      }
-      FloatMap input_state;
-      kernels::PatchMatchResult input;
-      PlanarPriorModel prior;
-      if (stage.input >= 0) {
-        input_state = ReadFloatMap(StatePath(p.ref, plan_.stages[stage.input].name), kStateChannels);
-        if (input_state.width != view.width || input_state.height != view.height) {
-          ThrowFileError(StatePath(p.ref, plan_.stages[stage.input].name),
-                         "size differs from the image; delete stereo/mpmvs to start over");
-        }
-        StateToResult(input_state, &input);
-        problem.init_plane = input.plane.data();
-        problem.init_cost = input.cost.data();
-      }
-      if (stage.kind == StageKind::kPlanarPrior) {
-        PlanarPriorOptions po;
-        const MpMvsOptions& o = run_.options;
-        po.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
-                                                       : PlanarPriorOptions::Selection::kPhotometric;
-        po.cell_size = o.prior_cell_size;
-        po.points_per_cell = o.prior_points_per_cell;
-        po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
-        po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
-        po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
-        po.max_depth_jump = static_cast<float>(o.prior_max_depth_jump);
-        po.max_edge_fraction = static_cast<float>(o.prior_max_edge);
-        const std::vector<float> depth = StateDepth(input_state, problem.ref_camera, p.depth_min, p.depth_max);
-        prior = BuildPlanarPrior(problem.ref_camera, depth, input.photo_cost, input.geo_error, p.depth_min,
-                                 p.depth_max, po);
-        problem.prior_plane = prior.plane.data();
-        problem.prior_label = prior.label.data();
-        size_t labelled = 0;
-        for (uint8_t l : prior.label) labelled += l;
-        LogInfo(view.name + ": planar prior with " + std::to_string(prior.vertices.size()) + " vertices, " +
-                std::to_string(prior.triangles.size() / 3) + " triangles (" +
-                std::to_string(prior.num_rejected_triangles) + " rejected), " +
-                std::to_string(100 * labelled / prior.label.size()) + "% of pixels covered");
-      }
-      backend_->Run(problem, stage.schedule, &result);
-      // The reference pipeline median-filters every run's depths (ALGORITHM.md 9.1); later
-      // stages, the planar prior and the outputs all see the filtered result.
-      kernels::MedianFilterDepths(problem.ref_camera, p.depth_min, p.depth_max, &result);
-      const FloatMap state = ResultToState(result);
-      WriteFloatMap(state_path, state);
-      if (run_.options.write_pictures) {
-        const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + view.name + "." + stage.name);
-        FloatMap stage_depth(view.width, view.height, 1);
-        stage_depth.data = StateDepth(state, problem.ref_camera, p.depth_min, p.depth_max);
-        WriteRgbPng(base + ".depth.png", DepthPicture(stage_depth, p.depth_min, p.depth_max, view.name + " stage " + stage.name));
-        if (stage.kind == StageKind::kPlanarPrior) {
-          FloatMap prior_depth(view.width, view.height, 1);
-          for (size_t i = 0; i < prior.label.size(); ++i) {
-            if (!prior.label[i]) continue;
-            const kernels::Plane pl{{prior.plane[4 * i], prior.plane[4 * i + 1], prior.plane[4 * i + 2]}, prior.plane[4 * i + 3]};
-            prior_depth.data[i] = kernels::PlaneDepth(
-                pl, kernels::PixelRay(problem.ref_camera, float(i % view.width), float(i / view.width)));
+      case StageReference::Action::kResume:
+        StateToResult(ReadFloatMap(state_path, kStateChannels), &result);
+        ++stage_summary.images_resumed;
+        break;
+      case StageReference::Action::kCompute: {
+        auto next = [&, i]() -> const kernels::PatchMatchProblem* {
+          if (i + 1 >= problems_.size()) return nullptr;
+          try {
+            ahead = PrepareReference(stage_index, problems_[i + 1]);
+          } catch (...) {
+            ahead_error = std::current_exception();
+            return nullptr;
           }
-          WriteRgbPng(base + ".prior_model.png", DepthPicture(prior_depth, p.depth_min, p.depth_max, view.name + " planar prior"));
+          return ahead->action == StageReference::Action::kCompute ? &ahead->pm : nullptr;
+        };
+        backend_->Run(problem, stage.schedule, &result, next);
+        // The reference pipeline median-filters every run's depths (ALGORITHM.md 9.1); later
+        // stages, the planar prior and the outputs all see the filtered result.
+        kernels::MedianFilterDepths(problem.ref_camera, p.depth_min, p.depth_max, &result);
+        const FloatMap state = ResultToState(result);
+        WriteFloatMap(state_path, state);
+        if (run_.options.write_pictures) {
+          const std::string base = JoinPaths(workspace_.IntermediateDir(), "pictures/" + view.name + "." + stage.name);
+          FloatMap stage_depth(view.width, view.height, 1);
+          stage_depth.data = StateDepth(state, problem.ref_camera, p.depth_min, p.depth_max);
+          WriteRgbPng(base + ".depth.png", DepthPicture(stage_depth, p.depth_min, p.depth_max, view.name + " stage " + stage.name));
+          if (stage.kind == StageKind::kPlanarPrior) {
+            const PlanarPriorModel& prior = ref->prior;
+            FloatMap prior_depth(view.width, view.height, 1);
+            for (size_t k = 0; k < prior.label.size(); ++k) {
+              if (!prior.label[k]) continue;
+              const kernels::Plane pl{{prior.plane[4 * k], prior.plane[4 * k + 1], prior.plane[4 * k + 2]}, prior.plane[4 * k + 3]};
+              prior_depth.data[k] = kernels::PlaneDepth(
+                  pl, kernels::PixelRay(problem.ref_camera, float(k % view.width), float(k / view.width)));
+            }
+            WriteRgbPng(base + ".prior_model.png", DepthPicture(prior_depth, p.depth_min, p.depth_max, view.name + " planar prior"));
+          }
         }
+        ++stage_summary.images_computed;
+        stage_summary.ncc_evaluations += result.init_ncc_evaluations;
+        for (const auto& it : result.iterations) stage_summary.ncc_evaluations += it.ncc_evaluations;
+        stage_summary.pixel_iterations +=
+            static_cast<uint64_t>(result.width) * result.height * result.iterations.size();
+        if (stage_summary.iterations.empty()) stage_summary.iterations = result.iterations;
+        break;
       }
-      ++stage_summary.images_computed;
-      stage_summary.ncc_evaluations += result.init_ncc_evaluations;
-      for (const auto& it : result.iterations) stage_summary.ncc_evaluations += it.ncc_evaluations;
-      stage_summary.pixel_iterations +=
-          static_cast<uint64_t>(result.width) * result.height * result.iterations.size();
-      if (stage_summary.iterations.empty()) stage_summary.iterations = result.iterations;
     }
-    if (filter_here && !problem.sources.empty()) {
+    if (ref->filter_here && !problem.sources.empty()) {
       kernels::FilterParams filter;
       filter.min_ncc = static_cast<float>(run_.colmap_options.filter_min_ncc);
       filter.min_triangulation_angle_deg = static_cast<float>(run_.colmap_options.filter_min_triangulation_angle);
@@ -462,7 +553,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
       kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, &result);
       WriteFinal(p, problem, result, "geometric");
     }
-    progress.Step(view.name + (have_state ? " (resumed from stereo/mpmvs)" : ""));
+    progress.Step(view.name + (ref->action == StageReference::Action::kResume ? " (resumed from stereo/mpmvs)" : ""));
   }
   stage_summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary->stages.push_back(stage_summary);

@@ -45,6 +45,10 @@ struct MpPatchMatchRun {
   std::string config_path;  // "" = workspace/stereo/patch-match.cfg
   PatchMatchStereoOptions colmap_options;
   MpMvsOptions options;
+  // Tests: the CPU backend assembles the next reference image before running the current
+  // one, as the CUDA session does while its kernels run, so that this controller path runs
+  // on machines without a GPU. Results and files are the same either way.
+  bool cpu_look_ahead = false;
 };
 
 // The kernels' float camera of a workspace view (same size, K, R, t).

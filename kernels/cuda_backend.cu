@@ -1,14 +1,16 @@
 // CUDA backend: the same per-pixel functions as the CPU backend (patch_match_pixel.h with
-// ScalarNcc), launched one thread per pixel. The host side only moves data, sets up the
-// passes with the shared functions of patch_match.h and maps threads to pixels with
-// launch_layout.h; see DESIGN_CUDA.md.
+// ScalarNcc), launched one thread per pixel. The host side here only queues the passes,
+// set up with the shared functions of patch_match.h, with threads mapped to pixels by
+// launch_layout.h; memory, uploads and streams are the CUDA session's (cuda_session.cu).
+// See DESIGN_CUDA.md.
 #include <cuda_runtime.h>
 
 #include <stdexcept>
 #include <string>
 #include <type_traits>
-#include <vector>
 
+#include "kernels/cuda_launch.cuh"
+#include "kernels/cuda_util.cuh"
 #include "kernels/launch_layout.h"
 #include "kernels/patch_match.h"
 
@@ -27,20 +29,6 @@ static_assert(std::is_trivially_copyable<SourceView>::value, "SourceView is copi
 
 // The warp reduction of the NCC counter needs whole warps.
 static_assert((kBlockSideX * kBlockSideY) % 32 == 0, "blocks must be whole warps");
-
-[[noreturn]] void ThrowCudaError(cudaError_t error, const char* what, const char* file, int line) {
-  throw std::runtime_error(std::string("CUDA error in ") + what + " (" + file + ":" +
-                           std::to_string(line) + "): " + cudaGetErrorName(error) + ": " +
-                           cudaGetErrorString(error));
-}
-
-#define MPMVS_CUDA_CHECK(expr)                                     \
-  do {                                                             \
-    const cudaError_t mpmvs_cuda_error = (expr);                   \
-    if (mpmvs_cuda_error != cudaSuccess) {                         \
-      ThrowCudaError(mpmvs_cuda_error, #expr, __FILE__, __LINE__); \
-    }                                                              \
-  } while (0)
 
 // ---------------------------------------------------------------------------------------
 // Device side: thin launchers around the shared per-pixel functions.
@@ -83,67 +71,6 @@ __global__ void CheckerboardKernel(const PassParams params, const PixelState sta
   AccumulateCount(count, ncc_counter);
 }
 
-// ---------------------------------------------------------------------------------------
-// Host side: RAII for device resources so errors (exceptions) do not leak them.
-
-template <typename T>
-class DeviceBuffer {
- public:
-  DeviceBuffer() = default;
-  explicit DeviceBuffer(size_t count) { Allocate(count); }
-  DeviceBuffer(const DeviceBuffer&) = delete;
-  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
-  ~DeviceBuffer() {
-    if (ptr_) cudaFree(ptr_);  // no throwing from a destructor
-  }
-  void Allocate(size_t count) {
-    count_ = count;
-    if (count > 0) MPMVS_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&ptr_), count * sizeof(T)));
-  }
-  void Upload(const T* host, size_t count, cudaStream_t stream) {
-    Allocate(count);
-    if (count > 0) {
-      MPMVS_CUDA_CHECK(
-          cudaMemcpyAsync(ptr_, host, count * sizeof(T), cudaMemcpyHostToDevice, stream));
-    }
-  }
-  void Download(T* host, cudaStream_t stream) const {
-    if (count_ > 0) {
-      MPMVS_CUDA_CHECK(
-          cudaMemcpyAsync(host, ptr_, count_ * sizeof(T), cudaMemcpyDeviceToHost, stream));
-    }
-  }
-  T* get() const { return ptr_; }
-
- private:
-  T* ptr_ = nullptr;
-  size_t count_ = 0;
-};
-
-class Stream {
- public:
-  Stream() { MPMVS_CUDA_CHECK(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking)); }
-  Stream(const Stream&) = delete;
-  Stream& operator=(const Stream&) = delete;
-  ~Stream() { cudaStreamDestroy(stream_); }
-  cudaStream_t get() const { return stream_; }
-
- private:
-  cudaStream_t stream_ = nullptr;
-};
-
-class Event {
- public:
-  Event() { MPMVS_CUDA_CHECK(cudaEventCreate(&event_)); }
-  Event(const Event&) = delete;
-  Event& operator=(const Event&) = delete;
-  ~Event() { cudaEventDestroy(event_); }
-  cudaEvent_t get() const { return event_; }
-
- private:
-  cudaEvent_t event_ = nullptr;
-};
-
 dim3 ToDim3(const Dim2& d) {
   return dim3(static_cast<unsigned>(d.x), static_cast<unsigned>(d.y), 1u);
 }
@@ -182,124 +109,51 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   return true;
 }
 
-void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
-                       int gpu_index, PatchMatchResult* result, const ProgressCallback& progress) {
-  schedule.Check();
-  std::string why;
-  if (!CudaDeviceAvailable(gpu_index, &why))
-    throw std::runtime_error("CUDA backend unusable: " + why);
-  MPMVS_CUDA_CHECK(cudaSetDevice(gpu_index));  // per host thread
-
-  // Host copies of the source views; their pointers are replaced by device ones below.
-  std::vector<SourceView> sources = MakeSourceViews(problem);
-  PassParams params = MakePassParams(problem, schedule, sources.data());
-  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
-  const StateLayout layout = MakeStateLayout(W, H);
-  ResetResult(W, H, result);
-
-  Stream stream;
-  const cudaStream_t s = stream.get();
-
-  // Inputs, uploaded asynchronously in stream order ahead of the kernels.
-  const size_t num_sources = problem.sources.size();
-  auto image_size = [](const ImageView& img) {
-    return img.width > 0 && img.height > 0 ? static_cast<size_t>(img.width) * img.height : 0;
-  };
-  DeviceBuffer<float> ref_image;
-  ref_image.Upload(problem.ref_image.data, image_size(problem.ref_image), s);
-  params.ref_image.data = ref_image.get();
-  std::vector<DeviceBuffer<float>> source_images(num_sources);
-  std::vector<DeviceBuffer<float>> source_depths(num_sources);
-  for (size_t i = 0; i < num_sources; ++i) {
-    const PatchMatchSource& src = problem.sources[i];
-    source_images[i].Upload(src.image.data, image_size(src.image), s);
-    sources[i].image.data = source_images[i].get();
-    sources[i].depth = nullptr;  // only read by geometric passes
-    if (schedule.geometric) {
-      source_depths[i].Upload(src.depth_map,
-                              MakeStateLayout(src.camera.width, src.camera.height).num_pixels, s);
-      sources[i].depth = source_depths[i].get();
-    }
-  }
-  DeviceBuffer<SourceView> device_sources;
-  device_sources.Upload(sources.data(), num_sources, s);
-  params.sources = device_sources.get();
-
-  DeviceBuffer<float> init_plane, init_cost;
-  if (problem.init_plane) init_plane.Upload(problem.init_plane, layout.plane_floats, s);
-  if (problem.init_cost) init_cost.Upload(problem.init_cost, layout.cost_floats, s);
-  DeviceBuffer<float> prior_plane;
-  DeviceBuffer<uint8_t> prior_label;
-  params.prior.plane = nullptr;
-  params.prior.label = nullptr;
-  if (schedule.use_prior) {
-    prior_plane.Upload(problem.prior_plane, layout.plane_floats, s);
-    prior_label.Upload(problem.prior_label, layout.label_bytes, s);
-    params.prior.plane = prior_plane.get();
-    params.prior.label = prior_label.get();
-  }
-
-  // Per-pixel state; the initialisation pass writes every entry.
-  DeviceBuffer<float> plane(layout.plane_floats), cost(layout.cost_floats),
-      photo_cost(layout.cost_floats), geo_error(layout.cost_floats);
-  DeviceBuffer<uint32_t> view_mask(layout.mask_words);
-  PixelState state;
-  state.plane = plane.get();
-  state.cost = cost.get();
-  state.photo_cost = photo_cost.get();
-  state.geo_error = geo_error.get();
-  state.view_mask = view_mask.get();
-
-  // NCC counters: [0] initialisation, [1 + it] iteration it.
+void EnqueuePatchMatchPasses(const PatchMatchSchedule& schedule, PassParams params,
+                             const DevicePassBuffers& buffers, cudaStream_t stream,
+                             const cudaEvent_t* events,
+                             const std::function<void()>& before_first_wait,
+                             const ProgressCallback& progress) {
+  const int W = params.ref_camera.width, H = params.ref_camera.height;
   const int total = static_cast<int>(schedule.iterations.size());
-  DeviceBuffer<unsigned long long> counters(1 + total);
-  MPMVS_CUDA_CHECK(cudaMemsetAsync(counters.get(), 0, (1 + total) * sizeof(unsigned long long), s));
+  bool waited = false;
+  auto first_wait = [&] {
+    if (waited) return;
+    waited = true;
+    if (before_first_wait) before_first_wait();
+  };
+  // NCC counters: [0] initialisation, [1 + it] iteration it.
+  MPMVS_CUDA_CHECK(cudaMemsetAsync(buffers.counters, 0,
+                                   (1 + total) * sizeof(unsigned long long), stream));
 
-  const bool empty = layout.num_pixels == 0;
+  const bool empty = MakeStateLayout(W, H).num_pixels == 0;
   const LaunchLayout init_layout = ImageLaunchLayout(W, H);
   const LaunchLayout pass_layout = CheckerboardLaunchLayout(W, H);
 
   SetInitPass(schedule, &params);
   if (!empty) {
-    InitializeKernel<<<ToDim3(init_layout.grid), ToDim3(init_layout.block), 0, s>>>(
-        params, state, init_plane.get(), init_cost.get(), counters.get());
+    InitializeKernel<<<ToDim3(init_layout.grid), ToDim3(init_layout.block), 0, stream>>>(
+        params, buffers.state, buffers.init_plane, buffers.init_cost, buffers.counters);
     MPMVS_CUDA_CHECK(cudaGetLastError());
   }
-
-  // events[it] .. events[it + 1] bracket iteration it on the GPU.
-  std::vector<Event> events(total + 1);
-  MPMVS_CUDA_CHECK(cudaEventRecord(events[0].get(), s));
+  MPMVS_CUDA_CHECK(cudaEventRecord(events[0], stream));
   for (int it = 0; it < total; ++it) {
     for (int color = 0; color < 2; ++color) {
       SetCheckerboardPass(schedule, it, color, &params);
       if (empty) continue;
-      CheckerboardKernel<<<ToDim3(pass_layout.grid), ToDim3(pass_layout.block), 0, s>>>(
-          params, state, counters.get() + 1 + it);
+      CheckerboardKernel<<<ToDim3(pass_layout.grid), ToDim3(pass_layout.block), 0, stream>>>(
+          params, buffers.state, buffers.counters + 1 + it);
       MPMVS_CUDA_CHECK(cudaGetLastError());
     }
-    MPMVS_CUDA_CHECK(cudaEventRecord(events[it + 1].get(), s));
+    MPMVS_CUDA_CHECK(cudaEventRecord(events[it + 1], stream));
     if (progress) {
       // Only wait per iteration when someone is watching; otherwise the whole run is queued.
-      MPMVS_CUDA_CHECK(cudaEventSynchronize(events[it + 1].get()));
+      first_wait();
+      MPMVS_CUDA_CHECK(cudaEventSynchronize(events[it + 1]));
       progress(it + 1, total);
     }
   }
-
-  plane.Download(result->plane.data(), s);
-  cost.Download(result->cost.data(), s);
-  photo_cost.Download(result->photo_cost.data(), s);
-  geo_error.Download(result->geo_error.data(), s);
-  view_mask.Download(result->view_mask.data(), s);
-  std::vector<unsigned long long> evaluations(1 + total, 0ull);
-  counters.Download(evaluations.data(), s);
-  MPMVS_CUDA_CHECK(cudaStreamSynchronize(s));
-
-  result->init_ncc_evaluations = evaluations[0];
-  for (int it = 0; it < total; ++it) {
-    float ms = 0.f;
-    MPMVS_CUDA_CHECK(cudaEventElapsedTime(&ms, events[it].get(), events[it + 1].get()));
-    result->iterations.push_back(MakeIterationStats(schedule, it, evaluations[1 + it], 1e-3 * ms));
-  }
+  first_wait();
 }
 
 }  // namespace kernels

@@ -13,14 +13,27 @@
 namespace mpmvs {
 namespace kernels {
 
+// "No id": an image (or depth map) the CUDA session must not keep for later problems.
+constexpr uint32_t kNoImageId = 0xffffffffu;
+
 struct PatchMatchSource {
   ImageView image;
   Camera camera;
   const float* depth_map = nullptr;  // required for geometric schedules (camera size)
+  // Device cache id of this view (cuda_session.h; the CPU backend ignores it): the same id
+  // must mean the same image (and, within one depth_maps_stage, the same depth map) for the
+  // whole session. kNoImageId: uploaded for this problem only.
+  uint32_t image_id = kNoImageId;
 };
 
 struct PatchMatchProblem {
   uint32_t image_id = 0;  // feeds the random streams
+  // Device cache id of ref_image, in the id space of PatchMatchSource::image_id (kept apart
+  // from image_id, which any caller may set for its random streams). kNoImageId: not cached.
+  uint32_t ref_image_id = kNoImageId;
+  // The stage whose results the sources' depth maps are, so that a view's depth map from
+  // stage k and from stage k+1 are different device cache entries; -1: not cached.
+  int depth_maps_stage = -1;
   Camera ref_camera;
   ImageView ref_image;
   std::vector<PatchMatchSource> sources;

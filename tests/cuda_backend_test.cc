@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/cuda_session.h"
 #include "kernels/launch_layout.h"
 #include "kernels/patch_match.h"
 
@@ -393,6 +394,67 @@ TEST(CudaBackend, MatchesCpuBackendOnTiltedPlane) {
   EXPECT_GE(GroundTruthAgreement(scene, problem, gpu), 0.98);
   ExpectSameStatistics(cpu, gpu);
   for (const IterationStats& stats : gpu.iterations) EXPECT_GE(stats.seconds, 0.0);
+}
+
+// A session over several reference images (device cache, uploads ahead while the previous
+// image runs) must give bit for bit the results of one-shot runs, under a budget that keeps
+// everything and under one too small for a single problem (over-budget fallback).
+TEST(CudaSession, LookAheadSequenceMatchesOneShotRuns) {
+  std::string why;
+  if (!CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "no usable CUDA device: " << why;
+  const TestScene scene = MakeTiltedPlaneScene(96, 72);
+  std::vector<PatchMatchProblem> problems;
+  for (uint32_t ref = 0; ref < 3; ++ref) {  // each camera once the reference
+    PatchMatchProblem p;
+    p.image_id = ref;
+    p.ref_image_id = ref;
+    p.ref_camera = scene.cameras[ref];
+    p.ref_image = ImageView{scene.images[ref].data(), 96, 72};
+    for (uint32_t s = 0; s < 3; ++s) {
+      if (s == ref) continue;
+      PatchMatchSource src;
+      src.camera = scene.cameras[s];
+      src.image = ImageView{scene.images[s].data(), 96, 72};
+      src.image_id = s;
+      p.sources.push_back(src);
+    }
+    p.depth_min = 2.f;
+    p.depth_max = 8.f;
+    problems.push_back(p);
+  }
+  PatchMatchSchedule schedule = MakeSchedule();
+  schedule.iterations.resize(3);
+  std::vector<PatchMatchResult> one_shot(problems.size());
+  for (size_t k = 0; k < problems.size(); ++k) {
+    RunPatchMatchCuda(problems[k], schedule, 0, &one_shot[k]);
+  }
+  const size_t image_bytes = 96 * 72 * sizeof(float);
+  for (size_t cache_bytes : {size_t(1) << 30, 2 * image_bytes}) {
+    SCOPED_TRACE("cache size " + std::to_string(cache_bytes));
+    CudaSessionOptions options;
+    options.cache_size_bytes = cache_bytes;
+    CudaSession session(options);
+    for (size_t k = 0; k < problems.size(); ++k) {
+      PatchMatchResult result;
+      int asked = 0;
+      session.Run(problems[k], schedule, &result, [&]() -> const PatchMatchProblem* {
+        ++asked;
+        return k + 1 < problems.size() ? &problems[k + 1] : nullptr;
+      });
+      EXPECT_EQ(asked, 1);
+      EXPECT_TRUE(result.plane == one_shot[k].plane) << "reference " << k;
+      EXPECT_TRUE(result.cost == one_shot[k].cost) << "reference " << k;
+      EXPECT_TRUE(result.view_mask == one_shot[k].view_mask) << "reference " << k;
+      EXPECT_EQ(result.init_ncc_evaluations, one_shot[k].init_ncc_evaluations);
+    }
+    const DeviceCacheStats stats = session.CacheStats();
+    if (cache_bytes > 3 * image_bytes) {
+      EXPECT_EQ(stats.misses, 3u);  // three images, each uploaded once
+      EXPECT_EQ(stats.hits, 6u);
+    } else {
+      EXPECT_GT(stats.over_budget_problems, 0u);
+    }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
+#include <string>
 
 #include "colmap_ext/dense_workspace.h"
 #include "colmap_ext/error.h"
@@ -246,6 +249,74 @@ TEST(Pipeline, IndoorGeometricBeatsPhotometric) {
   const double f1_photo = photometric.pooled.at[0].f1, f1_geo = geometric.pooled.at[0].f1;
   std::printf("indoor depth F1@1%%: photometric %.1f, geometric %.1f\n", 100 * f1_photo, 100 * f1_geo);
   EXPECT_GE(f1_geo, f1_photo + 0.02);
+}
+
+}  // namespace
+}  // namespace mpmvs
+
+namespace mpmvs {
+namespace {
+
+// Every regular file under dir, by path relative to dir, with its bytes.
+std::map<std::string, std::string> ReadTree(const std::string& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+    if (!entry.is_regular_file()) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    files[fs::relative(entry.path(), dir).string()] =
+        std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return files;
+}
+
+void ExpectSameTrees(const std::string& a, const std::string& b) {
+  const std::map<std::string, std::string> ta = ReadTree(a), tb = ReadTree(b);
+  ASSERT_EQ(ta.size(), tb.size());
+  for (const auto& file : ta) {
+    auto other = tb.find(file.first);
+    ASSERT_NE(other, tb.end()) << file.first;
+    EXPECT_TRUE(file.second == other->second) << file.first << " differs";
+  }
+}
+
+// With CUDA the controller assembles the next reference image (images, source depth maps,
+// initial state, planar prior) while the current one runs. cpu_look_ahead takes that path on
+// the CPU: it must write exactly the files of the ordinary path, also when a rerun mixes
+// skipped, resumed and computed reference images.
+TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
+  test::TempDir tmp;
+  for (const char* name : {"plain", "ahead"}) test::WriteSmallPlaneScene(tmp / name, 80, 60, 4);
+  MpPatchMatchRun run;
+  run.options.write_pictures = false;
+  std::string last_stage;
+  for (const char* name : {"plain", "ahead"}) {
+    run.workspace_path = tmp / name;
+    run.cpu_look_ahead = std::string(name) == "ahead";
+    const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
+    EXPECT_EQ(summary.num_written, 4);
+    ASSERT_GE(summary.stages.size(), 3u);
+    last_stage = summary.stages.back().name;
+  }
+  ExpectSameTrees(tmp / "plain", tmp / "ahead");
+
+  // view_01 loses its final maps and its last stage; view_02 its final maps only.
+  for (const char* name : {"plain", "ahead"}) {
+    const std::string ws = tmp / name;
+    for (const std::string view : {"view_01.png", "view_02.png"}) {
+      for (const char* dir : {"depth_maps", "normal_maps"}) {
+        for (const char* type : {"photometric", "geometric"}) {
+          fs::remove(ws + "/stereo/" + dir + "/" + view + "." + type + ".bin");
+        }
+      }
+    }
+    ASSERT_TRUE(fs::remove(ws + "/stereo/mpmvs/view_01.png." + last_stage + ".state.bin"));
+    run.workspace_path = ws;
+    run.cpu_look_ahead = std::string(name) == "ahead";
+    const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
+    EXPECT_EQ(summary.num_written, 2);
+    EXPECT_EQ(summary.stages.back().images_computed, 1);
+  }
+  ExpectSameTrees(tmp / "plain", tmp / "ahead");
 }
 
 }  // namespace
