@@ -507,7 +507,8 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
         backend_->Run(problem, stage.schedule, &result, next);
         // The reference pipeline median-filters every run's depths (ALGORITHM.md 9.1); later
         // stages, the planar prior and the outputs all see the filtered result.
-        kernels::MedianFilterDepths(problem.ref_camera, p.depth_min, p.depth_max, &result);
+        kernels::MedianFilterDepthsCpu(problem.ref_camera, p.depth_min, p.depth_max,
+                                       run_.colmap_options.num_threads, &result);
         const FloatMap state = ResultToState(result);
         WriteFloatMap(state_path, state);
         if (run_.options.write_pictures) {

@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "kernels/median_filter.h"
 #include "kernels/ncc_simd.h"
 #include "kernels/patch_match.h"
 
@@ -116,6 +117,23 @@ const char* CpuBackendNccName() {
 #else
   return "scalar";
 #endif
+}
+
+void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_max, int num_threads,
+                           PatchMatchResult* result) {
+  MedianFilterInput in;
+  in.camera = camera;
+  in.depth_min = depth_min;
+  in.depth_max = depth_max;
+  in.plane = result->plane.data();
+  in.cost = result->cost.data();
+  in.photo_cost = result->photo_cost.data();
+  const int threads = ResolveThreads(num_threads);
+  for (int color = 0; color < 2; ++color) {  // the second pass sees the first's output
+    ParallelRows(result->height, threads, [&](int v, uint32_t*) {
+      for (int u = (v + color) % 2; u < result->width; u += 2) MedianFilterPixel(in, u, v);
+    });
+  }
 }
 
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,

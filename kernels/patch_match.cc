@@ -1,6 +1,5 @@
 #include "kernels/patch_match.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace mpmvs {
@@ -119,47 +118,6 @@ void ResetResult(int width, int height, PatchMatchResult* result) {
   result->view_mask.assign(layout.mask_words, 0u);
   result->init_ncc_evaluations = 0;
   result->iterations.clear();
-}
-
-void MedianFilterDepths(const Camera& camera, float depth_min, float depth_max,
-                        PatchMatchResult* result) {
-  static const int kOffsets[20][2] = {{0, 1},  {0, -1}, {0, 3},  {0, -3},  {0, 5},  {0, -5},  {1, 0},
-                                      {-1, 0}, {3, 0},  {-3, 0}, {5, 0},   {-5, 0}, {2, 1},  {2, -1},
-                                      {-2, 1}, {-2, -1}, {1, 2}, {1, -2},  {-1, 2}, {-1, -2}};
-  const int W = result->width, H = result->height;
-  float* planes = result->plane.data();
-  auto usable = [&](size_t i) { return result->photo_cost[i] < kInvalidCost; };
-  // Two checkerboard passes; the second sees the first's output (neighbours are of the
-  // other colour), as in ALGORITHM.md 9.1.
-  for (int color = 0; color < 2; ++color) {
-    for (int v = 0; v < H; ++v) {
-      for (int u = (v + color) % 2; u < W; u += 2) {
-        const size_t i = static_cast<size_t>(v) * W + u;
-        if (!usable(i) || result->cost[i] < 0.001f) continue;
-        const Vec3 ray = PixelRay(camera, static_cast<float>(u), static_cast<float>(v));
-        const Plane own = LoadPlane(planes, static_cast<int>(i));
-        const float z = PlaneDepth(own, ray);
-        if (!(z >= depth_min && z <= depth_max)) continue;
-        // Depths that the neighbours' planes give on this pixel's ray: on a slanted surface
-        // they agree, where raw neighbour depths would pull the median off the surface.
-        float values[21];
-        int count = 0;
-        values[count++] = z;
-        for (const auto& o : kOffsets) {
-          const int x = u + o[0], y = v + o[1];
-          if (x < 0 || y < 0 || x >= W || y >= H) continue;
-          const size_t q = static_cast<size_t>(y) * W + x;
-          if (!usable(q)) continue;
-          const float zq = PlaneDepth(LoadPlane(planes, static_cast<int>(q)), ray);
-          if (zq >= depth_min && zq <= depth_max) values[count++] = zq;
-        }
-        std::sort(values, values + count);
-        const float median =
-            count % 2 ? values[count / 2] : 0.5f * (values[count / 2 - 1] + values[count / 2]);
-        if (median != z) StorePlane(planes, static_cast<int>(i), PlaneFromDepthNormal(ray, median, own.n));
-      }
-    }
-  }
 }
 
 size_t InvalidateGeometricallyInconsistent(float geom_max_error, PatchMatchResult* result) {

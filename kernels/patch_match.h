@@ -119,12 +119,10 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result);
 
-// Median filter of the result's depths (ALGORITHM.md 9.1): in two checkerboard passes, a
-// pixel's depth becomes the median of its own and its valid depths among 20 opposite-colour
-// neighbours; its normal is kept (the plane is moved along the ray). Pixels with cost below
-// 0.001 are left alone.
-void MedianFilterDepths(const Camera& camera, float depth_min, float depth_max,
-                        PatchMatchResult* result);
+// Median filter of the result's depths (median_filter.h), two checkerboard passes, all
+// cores (num_threads <= 0: all).
+void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_max, int num_threads,
+                           PatchMatchResult* result);
 
 // Marks pixels whose geometric term is saturated (no selected source view reprojects
 // within geom_max_error) as invalid (photometric cost 2); returns how many. Such pixels are

@@ -202,7 +202,7 @@ float DepthAt(const PatchMatchResult& r, const Camera& cam, int u, int v) {
   return PlaneDepth(LoadPlane(r.plane.data(), v * cam.width + u), PixelRay(cam, float(u), float(v)));
 }
 
-TEST(MedianFilterDepths, KeepsSlantedPlaneAndRemovesOutliers) {
+TEST(MedianFilterDepthsCpu, KeepsSlantedPlaneAndRemovesOutliers) {
   Camera cam;
   cam.width = 24;
   cam.height = 20;
@@ -218,7 +218,7 @@ TEST(MedianFilterDepths, KeepsSlantedPlaneAndRemovesOutliers) {
   r.photo_cost[3 * cam.width + 20] = kInvalidCost;  // an invalid pixel: neither read nor changed
   StorePlane(r.plane.data(), 3 * cam.width + 20, outlier_plane);
 
-  MedianFilterDepths(cam, 1.f, 20.f, &r);
+  MedianFilterDepthsCpu(cam, 1.f, 20.f, 2, &r);
   // The outlier takes the surface depth; its normal is kept.
   EXPECT_NEAR(DepthAt(r, cam, 7, 6), PlaneDepth(plane, PixelRay(cam, 7.f, 6.f)), 1e-3f);
   EXPECT_FLOAT_EQ(LoadPlane(r.plane.data(), 6 * cam.width + 7).n.z, -1.f);
