@@ -159,11 +159,10 @@ MPMVS_HD MPMVS_FORCE_INLINE bool NccDefined(const RefPatch& patch, const ImageVi
          patch.variance >= kMinNccVariance;
 }
 
-MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
-                                     int u, int v, const WindowSpec& win) {
+// The NCC cost of a window for which NccDefined holds (the caller has checked).
+MPMVS_HD inline float NccCostOfDefined(const RefPatch& patch, const ImageView& src, const float H[9],
+                                       int u, int v, const WindowSpec& win) {
   const float fu = static_cast<float>(u), fv = static_cast<float>(v);
-  if (!NccDefined(patch, src, H, fu, fv)) return kInvalidCost;
-
   float sum_s = 0.f, sum_ss = 0.f, sum_rs = 0.f;
   const float shift = patch.centre;
   for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
@@ -191,12 +190,24 @@ MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }
 
-// The portable NCC used on the device and as the reference on the host.
+MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
+                                     int u, int v, const WindowSpec& win) {
+  if (!NccDefined(patch, src, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
+  return NccCostOfDefined(patch, src, H, u, v, win);
+}
+
+// The portable NCC used on the device and as the reference on the host. Cost checks
+// NccDefined; CostOfDefined leaves that to the caller (which counts the NCCs it samples).
 struct ScalarNcc {
   MPMVS_HD MPMVS_FORCE_INLINE static float Cost(const RefPatch& patch, const ImageView& src,
                                                 const float H[9], int u, int v,
                                                 const WindowSpec& win) {
     return ComputeNccCost(patch, src, H, u, v, win);
+  }
+  MPMVS_HD MPMVS_FORCE_INLINE static float CostOfDefined(const RefPatch& patch, const ImageView& src,
+                                                         const float H[9], int u, int v,
+                                                         const WindowSpec& win) {
+    return NccCostOfDefined(patch, src, H, u, v, win);
   }
 };
 

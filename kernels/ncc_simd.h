@@ -103,10 +103,10 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
 }
 #endif
 
-inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, const float H[9], int u,
-                                int v, const WindowSpec& /*win*/) {
+// ComputeNccCost's sampling part (NccCostOfDefined), vectorised.
+inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, const float H[9], int u,
+                                  int v, const WindowSpec& /*win*/) {
   const float fu = static_cast<float>(u), fv = static_cast<float>(v);
-  if (!NccDefined(patch, src, H, fu, fv)) return kInvalidCost;
 #if defined(__AVX512F__)
   if (src.quads) return NccCostQuads512(patch, src, H, fu, fv);
 #endif
@@ -197,7 +197,12 @@ inline float ComputeNccCostSimd(const RefPatch& patch, const ImageView& src, con
 struct SimdNcc {
   static float Cost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,
                     const WindowSpec& win) {
-    return ComputeNccCostSimd(patch, src, H, u, v, win);
+    if (!NccDefined(patch, src, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
+    return NccCostOfDefinedSimd(patch, src, H, u, v, win);
+  }
+  static float CostOfDefined(const RefPatch& patch, const ImageView& src, const float H[9], int u,
+                             int v, const WindowSpec& win) {
+    return NccCostOfDefinedSimd(patch, src, H, u, v, win);
   }
 };
 

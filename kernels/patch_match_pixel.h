@@ -147,8 +147,10 @@ MPMVS_HD MPMVS_FORCE_INLINE float ViewPhotoCost(const PassParams& params, const 
                                                 int s, Vec3 m, int u, int v, uint32_t* num_ncc) {
   float H[9];
   PlaneHomography(params.sources[s].rel, m, H);
-  ++*num_ncc;
-  return Ncc::Cost(patch, params.sources[s].image, H, u, v, params.window);
+  const ImageView& image = params.sources[s].image;
+  if (!NccDefined(patch, image, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
+  ++*num_ncc;  // only NCCs that sample their window count (the benchmark's samples/s)
+  return Ncc::CostOfDefined(patch, image, H, u, v, params.window);
 }
 
 struct WeightedCost {
