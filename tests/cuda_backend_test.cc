@@ -12,6 +12,7 @@
 #include "kernels/cuda_session.h"
 #include "kernels/launch_layout.h"
 #include "kernels/patch_match.h"
+#include "tests/plane_scene_util.h"
 
 namespace mpmvs {
 namespace kernels {
@@ -136,12 +137,7 @@ TEST(CudaLaunchLayout, PassParamsFitTheKernelParameterLimit) {
 // even after float rounding flipped a decision somewhere; the sources have a wider field of
 // view than the reference so every reference pixel is seen by both.
 
-struct TestScene {
-  Vec3 plane_point{0.f, 0.f, 3.f};
-  Vec3 plane_normal = Normalize(Vec3{0.4f, -0.45f, -1.f});  // world frame
-  std::vector<Camera> cameras;
-  std::vector<std::vector<float>> images;
-};
+using test::PlaneScene;
 
 float PlaneTexture(float a, float b) {
   return 128.f + 40.f * std::sin(10.f * a) * std::cos(8.f * b) +
@@ -149,84 +145,37 @@ float PlaneTexture(float a, float b) {
          15.f * std::sin(66.f * a) * std::sin(58.f * b);
 }
 
-Camera LookAtCamera(int W, int H, float focal, Vec3 centre, Vec3 target) {
-  Camera cam;
-  cam.width = W;
-  cam.height = H;
-  cam.fx = cam.fy = focal * W;
-  cam.cx = W / 2.f - 0.3f;
-  cam.cy = H / 2.f + 0.2f;
-  const Vec3 z = Normalize(target - centre);
-  const Vec3 x = Normalize(Cross(z, Vec3{0.05f, 1.f, 0.f}));
-  const Vec3 y = Cross(z, x);
-  const float R[9] = {x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z};
-  for (int i = 0; i < 9; ++i) cam.R[i] = R[i];
-  const Vec3 t = -MatVec(cam.R, centre);
-  cam.t[0] = t.x, cam.t[1] = t.y, cam.t[2] = t.z;
-  return cam;
-}
-
-TestScene MakeTiltedPlaneScene(int W, int H) {
-  TestScene scene;
-  const Vec3 axis_u = Normalize(Cross(scene.plane_normal, Vec3{0.f, 1.f, 0.f}));
-  const Vec3 axis_v = Cross(scene.plane_normal, axis_u);
-  scene.cameras.push_back(LookAtCamera(W, H, 2.0f, Vec3{0.f, 0.f, 0.f}, scene.plane_point));
-  scene.cameras.push_back(LookAtCamera(W, H, 1.0f, Vec3{1.2f, 0.24f, 0.1f}, scene.plane_point));
-  scene.cameras.push_back(LookAtCamera(W, H, 1.0f, Vec3{-0.84f, -1.08f, 0.05f}, scene.plane_point));
-  for (const Camera& cam : scene.cameras) {
-    const Vec3 C = -MatTVec(cam.R, Vec3{cam.t[0], cam.t[1], cam.t[2]});
-    std::vector<float> img(static_cast<size_t>(W) * H);
-    for (int v = 0; v < H; ++v) {
-      for (int u = 0; u < W; ++u) {
-        float acc = 0.f;  // 2x2 supersampling
-        for (int s = 0; s < 4; ++s) {
-          const Vec3 dir = MatTVec(
-              cam.R, PixelRay(cam, u - 0.25f + 0.5f * (s & 1), v - 0.25f + 0.5f * (s >> 1)));
-          const float lambda =
-              Dot(scene.plane_point - C, scene.plane_normal) / Dot(dir, scene.plane_normal);
-          const Vec3 X = C + lambda * dir - scene.plane_point;
-          acc += PlaneTexture(Dot(X, axis_u), Dot(X, axis_v));
-        }
-        img[static_cast<size_t>(v) * W + u] = 0.25f * acc;
-      }
-    }
-    scene.images.push_back(std::move(img));
-  }
+PlaneScene MakeTiltedPlaneScene(int W, int H) {
+  PlaneScene scene;
+  scene.plane_point = Vec3{0.f, 0.f, 3.f};
+  scene.plane_normal = Normalize(Vec3{0.4f, -0.45f, -1.f});
+  const Vec3 up{0.05f, 1.f, 0.f};
+  scene.cameras.push_back(test::LookAtCamera(W, H, 2.0f, Vec3{0.f, 0.f, 0.f}, scene.plane_point, up));
+  scene.cameras.push_back(test::LookAtCamera(W, H, 1.0f, Vec3{1.2f, 0.24f, 0.1f}, scene.plane_point, up));
+  scene.cameras.push_back(test::LookAtCamera(W, H, 1.0f, Vec3{-0.84f, -1.08f, 0.05f}, scene.plane_point, up));
+  test::RenderPlaneScene(PlaneTexture, 0.f, 0, &scene);
   return scene;
 }
 
 // Fraction of reference pixels whose depth is within 0.5 % of the true plane.
-double GroundTruthAgreement(const TestScene& scene, const PatchMatchProblem& problem,
+double GroundTruthAgreement(const PlaneScene& scene, const PatchMatchProblem& problem,
                             const PatchMatchResult& result) {
   std::vector<float> depth, normal;
   ExtractDepthNormalMaps(problem, result, &depth, &normal);
   const Camera& cam = scene.cameras[0];
-  const Vec3 n_cam = MatVec(cam.R, scene.plane_normal);
-  const Vec3 p_cam = MatVec(cam.R, scene.plane_point) + Vec3{cam.t[0], cam.t[1], cam.t[2]};
   size_t good = 0;
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
-      const float z = Dot(p_cam, n_cam) / Dot(PixelRay(cam, float(u), float(v)), n_cam);
+      const float z = test::PlaneSceneDepth(scene, cam, u, v);
       if (std::abs(depth[static_cast<size_t>(v) * cam.width + u] - z) < 0.005f * z) ++good;
     }
   }
   return depth.empty() ? 0.0 : static_cast<double>(good) / depth.size();
 }
 
-PatchMatchProblem MakeSceneProblem(const TestScene& scene) {
-  PatchMatchProblem problem;
+PatchMatchProblem MakeSceneProblem(const PlaneScene& scene) {
+  PatchMatchProblem problem = test::MakePlaneSceneProblem(scene, 2.f, 8.f);
   problem.image_id = 3;
-  problem.ref_camera = scene.cameras[0];
-  problem.ref_image =
-      ImageView{scene.images[0].data(), scene.cameras[0].width, scene.cameras[0].height};
-  for (size_t s = 1; s < scene.cameras.size(); ++s) {
-    PatchMatchSource src;
-    src.camera = scene.cameras[s];
-    src.image = ImageView{scene.images[s].data(), scene.cameras[s].width, scene.cameras[s].height};
-    problem.sources.push_back(src);
-  }
-  problem.depth_min = 2.f;
-  problem.depth_max = 8.f;
   return problem;
 }
 
@@ -320,7 +269,7 @@ constexpr float kDepthTolerance = 0.001f;  // 0.1 %
 constexpr double kMinAgreement = 0.99;
 
 TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
-  const TestScene scene = MakeTiltedPlaneScene(128, 96);
+  const PlaneScene scene = MakeTiltedPlaneScene(128, 96);
   const PatchMatchProblem problem = MakeSceneProblem(scene);
   const PatchMatchSchedule schedule = MakeSchedule();
   PatchMatchResult cpu, emulated;
@@ -359,7 +308,7 @@ TEST(CudaDevice, AvailabilityComesWithAReason) {
 TEST(CudaDevice, RunWithoutDeviceThrows) {
   std::string why;
   if (CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "a CUDA device is present";
-  const TestScene scene = MakeTiltedPlaneScene(16, 12);
+  const PlaneScene scene = MakeTiltedPlaneScene(16, 12);
   PatchMatchResult result;
   try {
     RunPatchMatchCuda(MakeSceneProblem(scene), MakeSchedule(), 0, &result);
@@ -372,7 +321,7 @@ TEST(CudaDevice, RunWithoutDeviceThrows) {
 TEST(CudaBackend, MatchesCpuBackendOnTiltedPlane) {
   std::string why;
   if (!CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "no usable CUDA device: " << why;
-  const TestScene scene = MakeTiltedPlaneScene(128, 96);
+  const PlaneScene scene = MakeTiltedPlaneScene(128, 96);
   const PatchMatchProblem problem = MakeSceneProblem(scene);
   const PatchMatchSchedule schedule = MakeSchedule();
   PatchMatchResult cpu, gpu;
@@ -402,7 +351,7 @@ TEST(CudaBackend, MatchesCpuBackendOnTiltedPlane) {
 TEST(CudaSession, LookAheadSequenceMatchesOneShotRuns) {
   std::string why;
   if (!CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "no usable CUDA device: " << why;
-  const TestScene scene = MakeTiltedPlaneScene(96, 72);
+  const PlaneScene scene = MakeTiltedPlaneScene(96, 72);
   std::vector<PatchMatchProblem> problems;
   for (uint32_t ref = 0; ref < 3; ++ref) {  // each camera once the reference
     PatchMatchProblem p;

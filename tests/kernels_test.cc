@@ -1,12 +1,13 @@
 // Unit tests of the shared per-pixel math (kernels/*.h) as the CPU backend runs it.
 #include <gtest/gtest.h>
 
-#include <iostream>
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <set>
 #include <vector>
 
+#include "kernels/ncc_simd.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
@@ -263,16 +264,6 @@ TEST(KernelPrior, ScoreFavoursThePriorPlane) {
             PriorScore(prior, 1.2f, near_plane, prior_plane, ray));
 }
 
-}  // namespace
-}  // namespace kernels
-}  // namespace mpmvs
-
-#include "kernels/ncc_simd.h"
-
-namespace mpmvs {
-namespace kernels {
-namespace {
-
 // The CPU backend's NCC (vectorised where its build allows; the test binary itself is
 // compiled without -march=native, so it goes through the backend's own entry point).
 TEST(KernelNcc, CpuBackendNccEqualsSharedScalar) {
@@ -314,14 +305,6 @@ TEST(KernelNcc, CpuBackendNccEqualsSharedScalar) {
   }
   EXPECT_EQ(compared, 1500);
 }
-
-}  // namespace
-}  // namespace kernels
-}  // namespace mpmvs
-
-namespace mpmvs {
-namespace kernels {
-namespace {
 
 TEST(KernelNcc, ExpNegMatchesExpf) {
   double worst = 0;

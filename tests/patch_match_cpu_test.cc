@@ -7,18 +7,14 @@
 #include <vector>
 
 #include "kernels/patch_match.h"
+#include "tests/plane_scene_util.h"
 
 namespace mpmvs {
 namespace kernels {
 namespace {
 
-struct Scene {
-  Vec3 plane_point{0.f, 0.f, 4.f};
-  Vec3 plane_normal;  // world frame
-  Vec3 axis_u, axis_v;
-  std::vector<Camera> cameras;
-  std::vector<std::vector<float>> images;
-};
+using test::PlaneScene;
+using test::PlaneSceneDepth;
 
 float Texture(float a, float b) {
   // Multi-scale smooth texture on plane coordinates (metres).
@@ -26,79 +22,22 @@ float Texture(float a, float b) {
          20.f * std::cos(21.f * b - 16.f * a) + 15.f * std::sin(33.f * a) * std::sin(29.f * b);
 }
 
-void LookAt(Vec3 centre, Vec3 target, Vec3 up, float R[9], float t[3]) {
-  const Vec3 z = Normalize(target - centre);
-  const Vec3 x = Normalize(Cross(z, up));
-  const Vec3 y = Cross(z, x);
-  const float M[9] = {x.x, x.y, x.z, y.x, y.y, y.z, z.x, z.y, z.z};
-  for (int i = 0; i < 9; ++i) R[i] = M[i];
-  const Vec3 tc = -MatVec(R, centre);
-  t[0] = tc.x, t[1] = tc.y, t[2] = tc.z;
-}
-
-Scene MakeScene(int W, int H, float noise_sigma) {
-  Scene scene;
-  // Plane tilted ~40 degrees.
+// A plane tilted ~40 degrees, seen by three cameras rotated about several axes.
+PlaneScene MakeScene(int W, int H, float noise_sigma) {
+  PlaneScene scene;
+  scene.plane_point = Vec3{0.f, 0.f, 4.f};
   scene.plane_normal = Normalize(Vec3{0.45f, -0.5f, -1.f});
-  scene.axis_u = Normalize(Cross(scene.plane_normal, Vec3{0.f, 1.f, 0.f}));
-  scene.axis_v = Cross(scene.plane_normal, scene.axis_u);
   const Vec3 centres[3] = {{0.f, 0.f, 0.f}, {0.5f, 0.1f, 0.1f}, {-0.3f, -0.45f, 0.05f}};
   const Vec3 ups[3] = {{0.f, 1.f, 0.f}, {0.2f, 1.f, 0.1f}, {-0.25f, 1.f, 0.f}};
-  std::mt19937 rng(5);
-  std::normal_distribution<float> noise(0.f, noise_sigma);
   for (int c = 0; c < 3; ++c) {
-    Camera cam;
-    cam.width = W;
-    cam.height = H;
-    cam.fx = cam.fy = 0.9f * W;
-    cam.cx = W / 2.f - 0.3f;
-    cam.cy = H / 2.f + 0.2f;
-    LookAt(centres[c], scene.plane_point + Vec3{0.1f * c, -0.05f * c, 0.f}, ups[c], cam.R, cam.t);
-    std::vector<float> img(static_cast<size_t>(W) * H);
-    const Vec3 C = -MatTVec(cam.R, Vec3{cam.t[0], cam.t[1], cam.t[2]});
-    for (int v = 0; v < H; ++v) {
-      for (int u = 0; u < W; ++u) {
-        float acc = 0.f;
-        for (int sy = 0; sy < 2; ++sy) {
-          for (int sx = 0; sx < 2; ++sx) {
-            const Vec3 ray_cam = PixelRay(cam, u - 0.25f + 0.5f * sx, v - 0.25f + 0.5f * sy);
-            const Vec3 dir = MatTVec(cam.R, ray_cam);
-            const float lambda = Dot(scene.plane_point - C, scene.plane_normal) / Dot(dir, scene.plane_normal);
-            const Vec3 X = C + lambda * dir - scene.plane_point;
-            acc += Texture(Dot(X, scene.axis_u), Dot(X, scene.axis_v));
-          }
-        }
-        img[static_cast<size_t>(v) * W + u] = 0.25f * acc + noise(rng);
-      }
-    }
-    scene.cameras.push_back(cam);
-    scene.images.push_back(std::move(img));
+    scene.cameras.push_back(test::LookAtCamera(
+        W, H, 0.9f, centres[c], scene.plane_point + Vec3{0.1f * c, -0.05f * c, 0.f}, ups[c]));
   }
+  test::RenderPlaneScene(Texture, noise_sigma, 5, &scene);
   return scene;
 }
 
-// GT depth of reference pixel (u, v).
-float GtDepth(const Scene& scene, const Camera& cam, int u, int v) {
-  const Vec3 n_cam = MatVec(cam.R, scene.plane_normal);
-  const Vec3 p_cam = MatVec(cam.R, scene.plane_point) + Vec3{cam.t[0], cam.t[1], cam.t[2]};
-  const Vec3 ray = PixelRay(cam, static_cast<float>(u), static_cast<float>(v));
-  return Dot(p_cam, n_cam) / Dot(ray, n_cam);
-}
-
-PatchMatchProblem MakeProblem(const Scene& scene) {
-  PatchMatchProblem problem;
-  problem.ref_camera = scene.cameras[0];
-  problem.ref_image = ImageView{scene.images[0].data(), scene.cameras[0].width, scene.cameras[0].height};
-  for (int s = 1; s < 3; ++s) {
-    PatchMatchSource src;
-    src.camera = scene.cameras[s];
-    src.image = ImageView{scene.images[s].data(), scene.cameras[s].width, scene.cameras[s].height};
-    problem.sources.push_back(src);
-  }
-  problem.depth_min = 2.0f;
-  problem.depth_max = 8.0f;
-  return problem;
-}
+PatchMatchProblem MakeProblem(const PlaneScene& scene) { return test::MakePlaneSceneProblem(scene, 2.f, 8.f); }
 
 PatchMatchSchedule MultiScaleSchedule(int max_scale, int per_scale) {
   PatchMatchSchedule schedule;
@@ -111,7 +50,7 @@ PatchMatchSchedule MultiScaleSchedule(int max_scale, int per_scale) {
 
 TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
   const int W = 160, H = 120;
-  const Scene scene = MakeScene(W, H, 2.f);
+  const PlaneScene scene = MakeScene(W, H, 2.f);
   const PatchMatchProblem problem = MakeProblem(scene);
   PatchMatchResult result;
   RunPatchMatchCpu(problem, MultiScaleSchedule(2, 3), &result);
@@ -123,7 +62,7 @@ TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
     for (int u = 12; u < W - 12; ++u) {
       const size_t i = static_cast<size_t>(v) * W + u;
       // Only pixels seen by at least one source view.
-      const float z = GtDepth(scene, scene.cameras[0], u, v);
+      const float z = PlaneSceneDepth(scene, scene.cameras[0], u, v);
       bool seen = false;
       for (int s = 1; s < 3; ++s) {
         const Vec3 Xw = MatTVec(scene.cameras[0].R, z * PixelRay(scene.cameras[0], u, v) -
@@ -162,7 +101,7 @@ TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
 
 TEST(PatchMatchCpu, DeterministicAcrossThreadCounts) {
   const int W = 64, H = 48;
-  const Scene scene = MakeScene(W, H, 1.f);
+  const PlaneScene scene = MakeScene(W, H, 1.f);
   const PatchMatchProblem problem = MakeProblem(scene);
   PatchMatchSchedule schedule = MultiScaleSchedule(1, 1);
   PatchMatchResult a, b;
@@ -177,14 +116,6 @@ TEST(PatchMatchCpu, DeterministicAcrossThreadCounts) {
   RunPatchMatchCpu(problem, schedule, &c);
   EXPECT_NE(a.plane, c.plane);
 }
-
-}  // namespace
-}  // namespace kernels
-}  // namespace mpmvs
-
-namespace mpmvs {
-namespace kernels {
-namespace {
 
 // A 24x20 result whose every pixel holds the same slanted plane, with costs 0.5.
 PatchMatchResult SlantedPlaneResult(const Camera& cam, const Plane& plane) {
