@@ -4,6 +4,7 @@
 // one and only copy of the math; the CPU backend calls it directly, the CUDA backend from
 // __global__ launchers.
 #include <cstdint>
+#include <string.h>
 
 #if defined(__CUDACC__)
 #define MPMVS_HD __host__ __device__
@@ -28,6 +29,21 @@ MPMVS_HD MPMVS_FORCE_INLINE float Min(float a, float b) { return a < b ? a : b; 
 MPMVS_HD MPMVS_FORCE_INLINE float Max(float a, float b) { return a > b ? a : b; }
 MPMVS_HD MPMVS_FORCE_INLINE int MinI(int a, int b) { return a < b ? a : b; }
 MPMVS_HD MPMVS_FORCE_INLINE int MaxI(int a, int b) { return a > b ? a : b; }
+
+// e^-x for x >= 0, inline and branch-free (the reference-patch weights and view selection need
+// dozens per pixel update; libm's expf is a call). Relative error below 1e-5.
+MPMVS_HD MPMVS_FORCE_INLINE float ExpNeg(float x) {
+  const float t = Min(x * 1.44269504f, 125.f);  // e^-x = 2^-t
+  const int n = static_cast<int>(t);
+  const float y = -(t - static_cast<float>(n)) * 0.693147181f;  // 2^-frac = e^y, y in (-ln2, 0]
+  const float p =
+      1.f + y * (1.f + y * (0.5f + y * (0.166666667f + y * (0.0416666667f + y * (0.00833333333f +
+                                                                                   y * (0.00138888889f + y * 0.000198412698f))))));
+  const int bits = (127 - n) << 23;  // 2^-n
+  float scale;
+  memcpy(&scale, &bits, sizeof(scale));
+  return p * scale;
+}
 
 }  // namespace kernels
 }  // namespace mpmvs

@@ -59,15 +59,16 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
   const __m512 two = _mm512_set1_ps(2.f), zero = _mm512_setzero_ps();
   const __m512 xmax = _mm512_set1_ps(static_cast<float>(src.width - 1));
   const __m512 ymax = _mm512_set1_ps(static_cast<float>(src.height - 1));
-  const __m512i width = _mm512_set1_epi32(src.width);
+  const __m512 width = _mm512_set1_ps(static_cast<float>(src.width));
   const __m512i byte = _mm512_set1_epi32(0xff);
-  const __m512 shift = _mm512_set1_ps(patch.centre);
+  const __m512i magic = _mm512_set1_epi32(0x4b000000);  // 2^23
+  const __m512 shift = _mm512_set1_ps(8388608.f + patch.centre);
   const int* base = reinterpret_cast<const int*>(src.quads);
+  static_assert(kWindowSamples == 36 && kWindowSamplesPadded >= 40, "16 + 16 + 4 (of 8) lanes");
   __m512 sum_s = zero, sum_ss = zero, sum_rs = zero;
-  for (int b = 0; b < kWindowSamples; b += 16) {
-    const __mmask16 m = kWindowSamples - b >= 16 ? 0xffff : (1u << (kWindowSamples - b)) - 1;
-    const __m512 x = _mm512_maskz_loadu_ps(m, patch.offset_x + b);
-    const __m512 y = _mm512_maskz_loadu_ps(m, patch.offset_y + b);
+  for (int b = 0; b < 32; b += 16) {
+    const __m512 x = _mm512_loadu_ps(patch.offset_x + b);
+    const __m512 y = _mm512_loadu_ps(patch.offset_y + b);
     const __m512 hz = _mm512_fmadd_ps(h6, x, _mm512_fmadd_ps(h7, y, h8));
     const __m512 hx = _mm512_fmadd_ps(h0, x, _mm512_fmadd_ps(h1, y, h2));
     const __m512 hy = _mm512_fmadd_ps(h3, x, _mm512_fmadd_ps(h4, y, h5));
@@ -75,27 +76,68 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
     const __m512 inv = _mm512_mul_ps(r, _mm512_fnmadd_ps(hz, r, two));
     const __m512 sx = _mm512_min_ps(_mm512_max_ps(_mm512_mul_ps(hx, inv), zero), xmax);
     const __m512 sy = _mm512_min_ps(_mm512_max_ps(_mm512_mul_ps(hy, inv), zero), ymax);
-    const __m512i x0 = _mm512_cvttps_epi32(sx);
-    const __m512i y0 = _mm512_cvttps_epi32(sy);
-    const __m512 fx = _mm512_sub_ps(sx, _mm512_cvtepi32_ps(x0));
-    const __m512 fy = _mm512_sub_ps(sy, _mm512_cvtepi32_ps(y0));
-    const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(y0, width), x0);
-    const __m512i q = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, index, base, 4);
-    const __m512 p00 = _mm512_cvtepi32_ps(_mm512_and_si512(q, byte));
-    const __m512 p01 = _mm512_cvtepi32_ps(_mm512_and_si512(_mm512_srli_epi32(q, 8), byte));
-    const __m512 p10 = _mm512_cvtepi32_ps(_mm512_and_si512(_mm512_srli_epi32(q, 16), byte));
-    const __m512 p11 = _mm512_cvtepi32_ps(_mm512_srli_epi32(q, 24));
-    const __m512 top = _mm512_fmadd_ps(fx, _mm512_sub_ps(p01, p00), p00);
-    const __m512 bottom = _mm512_fmadd_ps(fx, _mm512_sub_ps(p11, p10), p10);
-    const __m512 value = _mm512_sub_ps(_mm512_fmadd_ps(fy, _mm512_sub_ps(bottom, top), top), shift);
-    // Lanes past the window have weight 0 (masked loads), so they add nothing.
-    const __m512 wv = _mm512_mul_ps(_mm512_maskz_loadu_ps(m, patch.weight + b), value);
+    // Integer parts as floats: the row-major index is exact in float below 2^24 pixels.
+    const __m512 x0 = _mm512_roundscale_ps(sx, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m512 y0 = _mm512_roundscale_ps(sy, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m512 fx = _mm512_sub_ps(sx, x0);
+    const __m512 fy = _mm512_sub_ps(sy, y0);
+    const __m512i q = _mm512_i32gather_epi32(_mm512_cvttps_epi32(_mm512_fmadd_ps(y0, width, x0)), base, 4);
+    // Bytes to floats without conversions: a byte b OR-ed into the mantissa of 2^23 is the
+    // float 2^23 + b, so differences of two such floats are the exact byte differences.
+    const __m512 p00 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(q, byte, magic, 0xea));
+    const __m512 p01 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 8), byte, magic, 0xea));
+    const __m512 p10 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 16), byte, magic, 0xea));
+    const __m512 p11 = _mm512_castsi512_ps(_mm512_or_si512(_mm512_srli_epi32(q, 24), magic));
+    // Minus 2^23 + centre (the centre shift of ComputeRefPatch, rounded to an integer if
+    // it is not one: exact differences, and NCC ignores a constant offset anyway).
+    const __m512 top = _mm512_fmadd_ps(fx, _mm512_sub_ps(p01, p00), _mm512_sub_ps(p00, shift));
+    const __m512 bottom = _mm512_fmadd_ps(fx, _mm512_sub_ps(p11, p10), _mm512_sub_ps(p10, shift));
+    const __m512 value = _mm512_fmadd_ps(fy, _mm512_sub_ps(bottom, top), top);
+    const __m512 wv = _mm512_mul_ps(_mm512_loadu_ps(patch.weight + b), value);
     sum_s = _mm512_add_ps(sum_s, wv);
     sum_ss = _mm512_fmadd_ps(wv, value, sum_ss);
-    sum_rs = _mm512_fmadd_ps(_mm512_maskz_loadu_ps(m, patch.weighted_value + b), value, sum_rs);
+    sum_rs = _mm512_fmadd_ps(_mm512_loadu_ps(patch.weighted_value + b), value, sum_rs);
   }
-  const float s = _mm512_reduce_add_ps(sum_s), ss = _mm512_reduce_add_ps(sum_ss);
-  const float rs = _mm512_reduce_add_ps(sum_rs);
+  // The last 4 samples in 256-bit registers: a 512-bit block costs twice as much on CPUs
+  // that split them. Lanes 36..39 are zero-weight padding; the gather skips them.
+  auto low = [](__m512 v) { return _mm512_castps512_ps256(v); };
+  const __m256 x = _mm256_loadu_ps(patch.offset_x + 32);
+  const __m256 y = _mm256_loadu_ps(patch.offset_y + 32);
+  const __m256 hz = _mm256_fmadd_ps(low(h6), x, _mm256_fmadd_ps(low(h7), y, low(h8)));
+  const __m256 hx = _mm256_fmadd_ps(low(h0), x, _mm256_fmadd_ps(low(h1), y, low(h2)));
+  const __m256 hy = _mm256_fmadd_ps(low(h3), x, _mm256_fmadd_ps(low(h4), y, low(h5)));
+  const __m256 r = _mm256_rcp14_ps(hz);
+  const __m256 inv = _mm256_mul_ps(r, _mm256_fnmadd_ps(hz, r, low(two)));
+  const __m256 sx = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(hx, inv), low(zero)), low(xmax));
+  const __m256 sy = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(hy, inv), low(zero)), low(ymax));
+  const __m256 x0 = _mm256_round_ps(sx, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m256 y0 = _mm256_round_ps(sy, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const __m256 fx = _mm256_sub_ps(sx, x0);
+  const __m256 fy = _mm256_sub_ps(sy, y0);
+  const __m256i q = _mm256_mmask_i32gather_epi32(
+      _mm256_setzero_si256(), 0x0f, _mm256_cvttps_epi32(_mm256_fmadd_ps(y0, low(width), x0)), base, 4);
+  const __m256i byte8 = _mm512_castsi512_si256(byte), magic8 = _mm512_castsi512_si256(magic);
+  const __m256 p00 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(q, byte8, magic8, 0xea));
+  const __m256 p01 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 8), byte8, magic8, 0xea));
+  const __m256 p10 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 16), byte8, magic8, 0xea));
+  const __m256 p11 = _mm256_castsi256_ps(_mm256_or_si256(_mm256_srli_epi32(q, 24), magic8));
+  const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), _mm256_sub_ps(p00, low(shift)));
+  const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), _mm256_sub_ps(p10, low(shift)));
+  const __m256 value = _mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top);
+  const __m256 wv = _mm256_mul_ps(_mm256_loadu_ps(patch.weight + 32), value);
+  auto high = [](__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); };
+  const __m256 s8 = _mm256_add_ps(_mm256_add_ps(low(sum_s), high(sum_s)), wv);
+  const __m256 ss8 = _mm256_fmadd_ps(wv, value, _mm256_add_ps(low(sum_ss), high(sum_ss)));
+  const __m256 rs8 = _mm256_fmadd_ps(_mm256_loadu_ps(patch.weighted_value + 32), value,
+                                     _mm256_add_ps(low(sum_rs), high(sum_rs)));
+  // The three horizontal sums at once: [s, ss, rs, rs] in one 128-bit register.
+  const __m256 a = _mm256_add_ps(_mm256_unpacklo_ps(s8, ss8), _mm256_unpackhi_ps(s8, ss8));
+  const __m256 c = _mm256_add_ps(_mm256_unpacklo_ps(rs8, rs8), _mm256_unpackhi_ps(rs8, rs8));
+  const __m256 abc = _mm256_add_ps(_mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0)),
+                                   _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2)));
+  const __m128 sums = _mm_add_ps(_mm256_castps256_ps128(abc), _mm256_extractf128_ps(abc, 1));
+  const float s = _mm_cvtss_f32(sums), ss = _mm_cvtss_f32(_mm_movehdup_ps(sums));
+  const float rs = _mm_cvtss_f32(_mm_movehl_ps(sums, sums));
   const float var_s = ss - s * s;
   if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
   const float cov = rs - patch.mean * s;

@@ -317,8 +317,11 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
 
   // 1. Best stored hypothesis per region (neighbours have the other colour: no races).
+  // All regions' choices first, then their planes: the plane loads (often cache misses
+  // with distant regions) are then independent and overlap instead of queueing.
   Plane candidates[kNumRegions];
   bool valid[kNumRegions];
+  int best_of[kNumRegions];
   for (int r = 0; r < kNumRegions; ++r) {
     int best = -1;
     float best_cost = 0.f;
@@ -333,9 +336,12 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
         best_cost = c;
       }
     }
+    best_of[r] = best;
+  }
+  for (int r = 0; r < kNumRegions; ++r) {
     valid[r] = false;
-    if (best >= 0) {
-      candidates[r] = LoadPlane(state.plane, best);
+    if (best_of[r] >= 0) {
+      candidates[r] = LoadPlane(state.plane, best_of[r]);
       valid[r] = DepthInRange(params, PlaneDepth(candidates[r], ray));
     }
   }

@@ -43,7 +43,7 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
       const float c = costs[k * num_views + s];
       if (c < tau) {
         ++n_good;
-        good_sum += expf(-c * c / params.good_weight_beta);
+        good_sum += ExpNeg(c * c / params.good_weight_beta);
       } else if (c > params.bad_threshold) {
         ++n_bad;
       }
@@ -73,18 +73,21 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
       total = static_cast<float>(num_views);
     }
   }
-  for (int s = 0; s < num_views; ++s) weights[s] = 0.f;
+  // Roulette draws. The chosen view is the first whose cumulative probability exceeds the
+  // draw, i.e. the number of cumulative sums <= it: counted without branches, since the
+  // draws are random and a search loop mispredicts most of them.
+  float cumulative[kMaxSourceViews];
+  float acc = 0.f;
+  for (int s = 0; s < num_views; ++s) {
+    acc += prob[s];
+    cumulative[s] = acc;
+    weights[s] = 0.f;
+  }
   for (int i = 0; i < params.num_samples; ++i) {
     const float r = rng->Uniform() * total;
-    float acc = 0.f;
-    int chosen = num_views - 1;
-    for (int s = 0; s < num_views; ++s) {
-      acc += prob[s];
-      if (r < acc && prob[s] > 0.f) {
-        chosen = s;
-        break;
-      }
-    }
+    int chosen = 0;
+    for (int s = 0; s < num_views; ++s) chosen += cumulative[s] <= r ? 1 : 0;
+    chosen = MinI(chosen, num_views - 1);
     // Guard against rounding picking a zero-probability last view.
     while (prob[chosen] <= 0.f && chosen > 0) --chosen;
     weights[chosen] += 1.f;
