@@ -271,16 +271,22 @@ std::string DenseWorkspace::ConsistencyGraphPath(int view, const std::string& ty
 
 std::string DenseWorkspace::IntermediateDir() const { return JoinPaths(path, "stereo/mpmvs"); }
 
-GrayImage DenseWorkspace::ReadGray(int view_idx) const {
-  if (view_idx < 0 || static_cast<size_t>(view_idx) >= views.size()) {
-    throw Error("ReadGray: view index " + std::to_string(view_idx) + " out of range");
+namespace {
+
+// A view's image read by `read`, checked against its camera and resized to the view's
+// working size (max_image_size) by `resize`.
+template <class Image, class Read, class Resize>
+Image ReadViewImage(const DenseWorkspace& workspace, int view_idx, const std::string& caller,
+                    Read read, Resize resize) {
+  if (view_idx < 0 || static_cast<size_t>(view_idx) >= workspace.views.size()) {
+    throw Error(caller + ": view index " + std::to_string(view_idx) + " out of range");
   }
-  const DenseView& view = views[view_idx];
+  const DenseView& view = workspace.views[view_idx];
   if (!FileExists(view.image_path)) {
     ThrowFileError(view.image_path, "image file is missing (listed in the sparse model as '" +
                                         view.name + "')");
   }
-  GrayImage image = ReadGrayImage(view.image_path);
+  Image image = read(view.image_path);
   if (image.width != view.original_width || image.height != view.original_height) {
     ThrowFileError(view.image_path,
                    "image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
@@ -289,9 +295,19 @@ GrayImage DenseWorkspace::ReadGray(int view_idx) const {
                        std::to_string(view.original_height) + "; " + kUndistortHint);
   }
   if (image.width != view.width || image.height != view.height) {
-    image = ResizeGrayImage(image, view.width, view.height);
+    image = resize(image, view.width, view.height);
   }
   return image;
+}
+
+}  // namespace
+
+GrayImage DenseWorkspace::ReadGray(int view_idx) const {
+  return ReadViewImage<GrayImage>(*this, view_idx, "ReadGray", ReadGrayImage, ResizeGrayImage);
+}
+
+RgbImage DenseWorkspace::ReadRgb(int view_idx) const {
+  return ReadViewImage<RgbImage>(*this, view_idx, "ReadRgb", ReadRgbImage, ResizeRgbImage);
 }
 
 void CheckDenseWorkspaceFolders(const std::string& path) {

@@ -53,6 +53,8 @@ struct DenseWorkspace {
   // max_image_size scaled it. Throws Error naming the file when missing, unreadable, or
   // when its size differs from the camera's.
   GrayImage ReadGray(int view) const;
+  // The same as colour (grey files give R = G = B).
+  RgbImage ReadRgb(int view) const;
 };
 
 // Loads path/sparse (binary preferred) and checks images/ and stereo/ exist. Throws Error

@@ -180,17 +180,15 @@ GrayImage ReadGrayImage(const std::string& path) {
   return GrayFromBitmap(bitmap.get());
 }
 
-RgbImage ReadRgbImage(const std::string& path) {
-  BitmapPtr bitmap = LoadBitmap(path);
-  if (!IsRgb24(bitmap.get())) {
-    bitmap = Convert(path, FreeImage_ConvertTo24Bits(bitmap.get()), "24-bit colour");
-  }
+namespace {
+
+RgbImage RgbFromBitmap(FIBITMAP* bitmap) {
   RgbImage image;
-  image.width = static_cast<int>(FreeImage_GetWidth(bitmap.get()));
-  image.height = static_cast<int>(FreeImage_GetHeight(bitmap.get()));
+  image.width = static_cast<int>(FreeImage_GetWidth(bitmap));
+  image.height = static_cast<int>(FreeImage_GetHeight(bitmap));
   image.data.resize(3 * static_cast<size_t>(image.width) * image.height);
   for (int row = 0; row < image.height; ++row) {
-    const BYTE* line = TopDownRow(bitmap.get(), row);
+    const BYTE* line = TopDownRow(bitmap, row);
     uint8_t* out = image.data.data() + 3 * static_cast<size_t>(row) * image.width;
     for (int col = 0; col < image.width; ++col) {
       out[3 * col + 0] = line[3 * col + FI_RGBA_RED];
@@ -199,6 +197,45 @@ RgbImage ReadRgbImage(const std::string& path) {
     }
   }
   return image;
+}
+
+}  // namespace
+
+RgbImage ReadRgbImage(const std::string& path) {
+  BitmapPtr bitmap = LoadBitmap(path);
+  if (!IsRgb24(bitmap.get())) {
+    bitmap = Convert(path, FreeImage_ConvertTo24Bits(bitmap.get()), "24-bit colour");
+  }
+  return RgbFromBitmap(bitmap.get());
+}
+
+RgbImage ResizeRgbImage(const RgbImage& image, int new_width, int new_height) {
+  const std::string what = "ResizeRgbImage";
+  if (image.data.size() % 3 != 0) ThrowFileError(what, "RGB data size is not a multiple of 3");
+  CheckImageSize(what, image.width, image.height, image.data.size() / 3);
+  if (new_width <= 0 || new_height <= 0) {
+    ThrowFileError(what, "bad target size " + std::to_string(new_width) + "x" +
+                             std::to_string(new_height));
+  }
+  if (new_width == image.width && new_height == image.height) return image;
+  InitializeFreeImage();
+  BitmapPtr bitmap(FreeImage_Allocate(image.width, image.height, 24));
+  if (!bitmap) ThrowFileError(what, "cannot allocate the image");
+  for (int row = 0; row < image.height; ++row) {
+    BYTE* line = TopDownRowMutable(bitmap.get(), row);
+    const uint8_t* in = image.data.data() + 3 * static_cast<size_t>(row) * image.width;
+    for (int col = 0; col < image.width; ++col) {
+      line[3 * col + FI_RGBA_RED] = in[3 * col + 0];
+      line[3 * col + FI_RGBA_GREEN] = in[3 * col + 1];
+      line[3 * col + FI_RGBA_BLUE] = in[3 * col + 2];
+    }
+  }
+  BitmapPtr scaled(FreeImage_Rescale(bitmap.get(), new_width, new_height, FILTER_BILINEAR));
+  if (!scaled) ThrowFileError(what, "FreeImage_Rescale failed" + FreeImageDetail());
+  if (!IsRgb24(scaled.get())) {
+    scaled = Convert(what, FreeImage_ConvertTo24Bits(scaled.get()), "24-bit colour");
+  }
+  return RgbFromBitmap(scaled.get());
 }
 
 GrayImage ResizeGrayImage(const GrayImage& image, int new_width, int new_height) {

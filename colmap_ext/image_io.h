@@ -31,6 +31,8 @@ RgbImage ReadRgbImage(const std::string& path);
 // Bilinear down-scaling as COLMAP's Bitmap::Rescale (FreeImage FILTER_BILINEAR) on the
 // 8-bit image; returns the rescaled grey image.
 GrayImage ResizeGrayImage(const GrayImage& image, int new_width, int new_height);
+// The same for a colour image (each channel as the grey one).
+RgbImage ResizeRgbImage(const RgbImage& image, int new_width, int new_height);
 
 // Atomic PNG writers (temporary + rename).
 void WriteRgbPng(const std::string& path, const RgbImage& image);

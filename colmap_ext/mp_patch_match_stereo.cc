@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "colmap_ext/chroma_guide.h"
 #include "colmap_ext/dense_workspace.h"
 #include "colmap_ext/error.h"
 #include "colmap_ext/file_util.h"
@@ -154,6 +155,7 @@ struct StageReference {
   bool filter_here = false;
   kernels::PatchMatchProblem pm;
   std::vector<std::shared_ptr<const GrayImage>> images;
+  std::vector<float> chroma;  // pm.ref_image.chroma
   std::vector<std::shared_ptr<const std::vector<float>>> depths;
   kernels::PatchMatchResult input;  // the input stage's planes and costs (pm.init_*)
   PlanarPriorModel prior;           // pm.prior_*
@@ -385,6 +387,10 @@ std::unique_ptr<StageReference> Controller::PrepareReference(int stage_index, co
     auto ref_image = images_->Get(p.ref);
     ref->images.push_back(ref_image);
     problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
+    if (run_.options.chroma_weight > 0) {
+      ref->chroma = MakeChromaGuide(io_->ReadRgb(workspace_, p.ref), static_cast<float>(run_.options.chroma_weight));
+      problem.ref_image.chroma = ref->chroma.data();
+    }
     if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
     for (int src : p.src) {
       kernels::PatchMatchSource source;

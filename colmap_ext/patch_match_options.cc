@@ -71,6 +71,8 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (prior_max_edge <= 0) return Fail(error, p + "prior_max_edge", prior_max_edge, "> 0");
   if (refinement_rho <= 0 || refinement_rho >= 1)
     return Fail(error, p + "refinement_rho", refinement_rho, "in (0, 1)");
+  if (!(chroma_weight >= 0 && chroma_weight <= 1000))
+    return Fail(error, p + "chroma_weight", chroma_weight, "in [0, 1000]");
   if (max_source_images < 1 || max_source_images > 32)
     return Fail(error, p + "max_source_images", max_source_images, "in [1, 32]");
   if (seed < 0) return Fail(error, p + "seed", seed, ">= 0");
@@ -124,6 +126,8 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_max_depth_jump", &m->prior_max_depth_jump);
   parser->Add(q + "prior_max_edge", &m->prior_max_edge);
   parser->Add(q + "refinement_rho", &m->refinement_rho);
+  parser->Add(q + "chroma_weight", &m->chroma_weight,
+              "weight of the reference's smoothed colour in the NCC weights; 0 = grey only (paper)");
   parser->Add(q + "max_source_images", &m->max_source_images);
   parser->Add(q + "seed", &m->seed);
   parser->Add(q + "overwrite", &m->overwrite, "recompute outputs that already exist");

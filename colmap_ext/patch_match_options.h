@@ -49,6 +49,9 @@ struct MpMvsOptions {
   double prior_max_depth_jump = 0.1;  // triangle rejected if vertex depths differ more (rel.)
   double prior_max_edge = 0.05;       // triangle rejected if an edge exceeds this x diagonal
   double refinement_rho = 0.02;
+  // Bilateral weights: grey difference + this x the smoothed chroma difference of the
+  // reference (kernels/DESIGN.md item 13). 0: grey only, as ACMH / the MP-MVS code.
+  double chroma_weight = 8;
   int max_source_images = 20;
   int seed = 1;
   bool overwrite = false;             // recompute outputs that already exist

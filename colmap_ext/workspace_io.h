@@ -31,6 +31,9 @@ class WorkspaceIo {
 
   // Grey image (values 0..255) of a view at the view's size. Throws Error naming the file.
   virtual GrayImage ReadGray(const DenseWorkspace& workspace, int view) = 0;
+  // Colour image of a view at the view's size, for the chroma guide of the NCC weights
+  // only (matching stays on ReadGray's grey). Both front ends read it with mp-mvs's reader.
+  virtual RgbImage ReadRgb(const DenseWorkspace& workspace, int view) { return workspace.ReadRgb(view); }
 
   // COLMAP's depth / normal map and consistency graph files. Each write is atomic: a crash
   // never leaves a half-written file under path.

@@ -25,6 +25,7 @@ struct DeviceProblem {
   UploadPlan plan;
   std::vector<DeviceInput> inputs;
   const float* ref_image = nullptr;
+  const float* ref_chroma = nullptr;
   const SourceView* sources = nullptr;
   const float* init_plane = nullptr;
   const float* init_cost = nullptr;
@@ -178,6 +179,7 @@ void CudaSession::Impl::Execute(const PatchMatchProblem& problem, DeviceProblem*
     const float* floats = reinterpret_cast<const float*>(device[i]);
     switch (in.role) {
       case DeviceInputRole::kRefImage: dp->ref_image = floats; break;
+      case DeviceInputRole::kRefChroma: dp->ref_chroma = floats; break;
       case DeviceInputRole::kSourceImage: views[in.source].image.data = floats; break;
       case DeviceInputRole::kSourceDepth: views[in.source].depth = floats; break;
       case DeviceInputRole::kInitPlane: dp->init_plane = floats; break;
@@ -279,6 +281,7 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
   ResetResult(W, H, result);
   params.ref_image.data = current->ref_image;
   params.ref_image.quads = nullptr;
+  params.ref_image.chroma = current->ref_chroma;
   params.sources = current->sources;
   params.prior.plane = current->prior_plane;
   params.prior.label = current->prior_label;

@@ -54,6 +54,10 @@ std::vector<DeviceInput> ListDeviceInputs(const PatchMatchProblem& problem,
   const DeviceCacheKey ref_key = image_key(problem.ref_image_id);
   add(DeviceInputRole::kRefImage, -1, problem.ref_image_id != kNoImageId ? &ref_key : nullptr,
       ImageBytes(problem.ref_image.width, problem.ref_image.height), problem.ref_image.data);
+  if (problem.ref_image.chroma) {
+    add(DeviceInputRole::kRefChroma, -1, nullptr,
+        2 * ImageBytes(problem.ref_image.width, problem.ref_image.height), problem.ref_image.chroma);
+  }
   for (size_t s = 0; s < problem.sources.size(); ++s) {
     const PatchMatchSource& src = problem.sources[s];
     const int index = static_cast<int>(s);

@@ -19,6 +19,7 @@ namespace kernels {
 // What an input is for: decides where its device pointer goes (PassParams, SourceView).
 enum class DeviceInputRole : uint8_t {
   kRefImage,
+  kRefChroma,  // the reference's chroma guide (ImageView::chroma), this problem only
   kSourceImage,
   kSourceDepth,
   kInitPlane,

@@ -21,6 +21,10 @@ struct ImageView {
   // neighbours I(x, y), I(x+1, y), I(x, y+1), I(x+1, y+1) (clamped to the image) as bytes,
   // so one 32-bit gather fetches a whole bilinear sample (ncc_simd.h, MakeQuadImage).
   const uint32_t* quads = nullptr;
+  // Optional, reference image only: a chroma guide, 2 floats per pixel (colmap_ext's
+  // MakeChromaGuide). Its L1 difference is added to the grey difference in the bilateral
+  // weights, so a window is also cut at colour edges between equally bright surfaces.
+  const float* chroma = nullptr;
 };
 
 // Window of scale S: edge L = 2^S*10+1, 6x6 samples with spacing 2^(S+1) (radius 5*2^S).
@@ -93,6 +97,7 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   // Gather first, then weigh in a straight loop over the 36 samples (vectorisable: this
   // runs once per pixel update, 36 exponentials).
   float values[kWindowSamples], exponent[kWindowSamples], inside[kWindowSamples];
+  const float* chroma_centre = ref.chroma ? ref.chroma + 2 * (static_cast<long>(v) * ref.width + u) : nullptr;
   for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
     const int dy = WindowOffset(win, j);
     const int y = v + dy;
@@ -108,7 +113,12 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
       patch->offset_y[k] = static_cast<float>(dy);
       values[k] = value;
       inside[k] = in ? 1.f : 0.f;
-      exponent[k] = sqrtf(static_cast<float>(dx * dx + dy * dy)) * inv_spatial + fabsf(value) * inv_color;
+      float colour = fabsf(value);
+      if (chroma_centre && in) {
+        const float* chroma = ref.chroma + 2 * (static_cast<long>(y) * ref.width + x);
+        colour += fabsf(chroma[0] - chroma_centre[0]) + fabsf(chroma[1] - chroma_centre[1]);
+      }
+      exponent[k] = sqrtf(static_cast<float>(dx * dx + dy * dy)) * inv_spatial + colour * inv_color;
     }
   }
   for (int k = 0; k < kWindowSamples; ++k) patch->weight[k] = inside[k] * ExpNeg(exponent[k]);
