@@ -56,6 +56,9 @@ TEST(Cli, OptionErrorsAreClear) {
   r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --MPMVS.max_window_scale 9", tmp / "log");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("MPMVS.max_window_scale"), std::string::npos);
+  r = ColmapMp("mp_patch_match_stereo --workspace_path " + tmp.path() + " --MPMVS.chroma_weight -1", tmp / "log");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("MPMVS.chroma_weight"), std::string::npos);
 }
 
 TEST(Cli, MissingWorkspaceNamesThePath) {

@@ -210,6 +210,15 @@ TEST(DenseWorkspaceTest, MaxImageSizeScalesSizesAndK) {
   EXPECT_EQ(gray.width, 200);
   EXPECT_EQ(gray.height, 160);
   EXPECT_EQ(ws.ReadGray(1).height, 200);
+  // ReadRgb (chroma guide) the same way; a grey file gives R = G = B.
+  const RgbImage rgb = ws.ReadRgb(0);
+  EXPECT_EQ(rgb.width, 200);
+  EXPECT_EQ(rgb.height, 160);
+  ASSERT_EQ(rgb.data.size(), 3u * 200 * 160);
+  for (size_t i = 0; i < rgb.data.size(); i += 3) {
+    ASSERT_EQ(rgb.data[i], rgb.data[i + 1]);
+    ASSERT_EQ(rgb.data[i + 2], rgb.data[i + 1]);
+  }
 
   // Limits at or above the image size, or <= 0, change nothing.
   for (int max_size : {463, 1000, 0, -1}) {
@@ -288,6 +297,9 @@ TEST(DenseWorkspaceErrorTest, BadImagesAreReportedByReadGray) {
   EXPECT_MPMVS_ERROR(ws.ReadGray(3),
                      dir / "images/img3.png: image is 41x30 but its camera in the sparse model is 40x30");
   EXPECT_THROW(ws.ReadGray(17), Error);
+  EXPECT_MPMVS_ERROR(ws.ReadRgb(1), dir / "images/img1.png: image file is missing");
+  EXPECT_MPMVS_ERROR(ws.ReadRgb(3),
+                     dir / "images/img3.png: image is 41x30 but its camera in the sparse model is 40x30");
 }
 
 // ---- patch-match.cfg ---------------------------------------------------------------------

@@ -387,6 +387,16 @@ TEST(DeviceCachePlan, ListsInputsWithCacheKeysFromTheProblem) {
   // A photometric schedule has no depth maps and no prior.
   PatchMatchSchedule photometric;
   EXPECT_EQ(ListDeviceInputs(lp.problem, photometric).size(), 6u);
+  // A reference chroma guide comes right after the reference image, for this problem only.
+  ListedProblem with_chroma;
+  const std::vector<float> chroma(2 * 12 * 10, 1.f);
+  with_chroma.problem.ref_image.chroma = chroma.data();
+  const std::vector<DeviceInput> chroma_inputs = ListDeviceInputs(with_chroma.problem, photometric);
+  ASSERT_EQ(chroma_inputs.size(), 7u);
+  EXPECT_EQ(chroma_inputs[1].role, R::kRefChroma);
+  EXPECT_FALSE(chroma_inputs[1].cached);
+  EXPECT_EQ(chroma_inputs[1].bytes, 2u * 12u * 10u * sizeof(float));
+  EXPECT_EQ(chroma_inputs[1].host, chroma.data());
 
   // The next stage's depth maps of the same views are new entries; the images are hits.
   DeviceCachePlanner planner(100 * kImageBytes);

@@ -185,6 +185,29 @@ TEST(ImageIoTest, ResizeKeepsConstantsAndRamps) {
   EXPECT_THROW(ResizeGrayImage(ramp, 0, 5), Error);
 }
 
+TEST(ImageIoTest, ResizeRgbKeepsChannelsApart) {
+  // Red ramp in x, constant green and blue: each channel resized on its own.
+  RgbImage image;
+  image.width = 200;
+  image.height = 10;
+  for (int r = 0; r < 10; ++r) {
+    for (int c = 0; c < 200; ++c) image.data.insert(image.data.end(), {static_cast<uint8_t>(c), 40, 200});
+  }
+  const RgbImage half = ResizeRgbImage(image, 100, 5);
+  ASSERT_EQ(half.width, 100);
+  ASSERT_EQ(half.height, 5);
+  ASSERT_EQ(half.data.size(), 3u * 100 * 5);
+  for (int i = 0; i < 100 * 5; ++i) {
+    EXPECT_EQ(half.data[3 * i + 1], 40);
+    EXPECT_EQ(half.data[3 * i + 2], 200);
+  }
+  EXPECT_NEAR(half.data[3 * (2 * 100 + 50)], 100.5f, 1.5f);
+  EXPECT_EQ(ResizeRgbImage(image, 200, 10).data, image.data);
+  EXPECT_THROW(ResizeRgbImage(image, 0, 5), Error);
+  image.data.pop_back();
+  EXPECT_THROW(ResizeRgbImage(image, 100, 5), Error);
+}
+
 TEST(ImageIoTest, PfmRoundTripAndBottomUpRows) {
   TempDir dir;
   PfmImage image;

@@ -98,6 +98,40 @@ TEST(KernelNcc, InvariantToGainAndOffset) {
   }
 }
 
+// The chroma guide cuts the window at a colour edge that grey cannot see; a zero guide
+// changes nothing.
+TEST(KernelNcc, ChromaGuideLowersWeightsAcrossColourEdges) {
+  const int W = 40, H = 40, u = 20, v = 20;
+  std::vector<float> grey(W * H, 100.f);  // equal brightness everywhere
+  std::vector<float> flat(2 * W * H, 0.f), edge(2 * W * H, 0.f);
+  for (int y = 0; y < H; ++y) {
+    for (int x = 24; x < W; ++x) edge[2 * (y * W + x)] = 200.f;  // x >= 24: another colour
+  }
+  const WindowSpec win = WindowForScale(0);
+  RefPatch plain, zero_guide, guided;
+  ImageView view{grey.data(), W, H};
+  ComputeRefPatch(view, u, v, win, &plain);
+  view.chroma = flat.data();
+  ComputeRefPatch(view, u, v, win, &zero_guide);
+  view.chroma = edge.data();
+  ComputeRefPatch(view, u, v, win, &guided);
+  for (int k = 0; k < kWindowSamplesPadded; ++k) EXPECT_EQ(plain.weight[k], zero_guide.weight[k]) << k;
+  float across_plain = 0, across_guided = 0;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    const bool across = u + plain.offset_x[k] >= 24;
+    if (across) {
+      across_plain += plain.weight[k];
+      across_guided += guided.weight[k];
+    }
+  }
+  // Offsets -5, -3, ..., 5 from u = 20: the column at x = 25 is across the edge.
+  EXPECT_GT(across_plain, 0.1f);
+  EXPECT_LT(across_guided, 1e-4f * across_plain);
+  float sum = 0;
+  for (int k = 0; k < kWindowSamples; ++k) sum += guided.weight[k];
+  EXPECT_NEAR(sum, 1.f, 1e-5f);
+}
+
 TEST(KernelNcc, InvalidCases) {
   const int W = 32, H = 32;
   std::vector<float> ref = RandomImage(W, H, 2);
