@@ -41,13 +41,22 @@ MPMVS_HD inline void MedianFilterPixel(const MedianFilterInput& in, int u, int v
     const float zq = PlaneDepth(LoadPlane(in.plane, q), ray);
     if (zq >= in.depth_min && zq <= in.depth_max) values[count++] = zq;
   }
-  for (int i = 1; i < count; ++i) {  // insertion sort: at most 21 values
-    const float x = values[i];
-    int j = i - 1;
-    for (; j >= 0 && values[j] > x; --j) values[j + 1] = values[j];
-    values[j + 1] = x;
+  // Median by rank counting over a fixed-size padded array: no data-dependent branches
+  // (a sort of random depths mispredicts most of its comparisons). Ties are ranked by
+  // position, so the result equals the sorted-array median.
+  constexpr int kMaxValues = 21;
+  for (int i = count; i < kMaxValues; ++i) values[i] = 3.0e38f;
+  const int lo = (count - 1) / 2, hi = count / 2;
+  float value_lo = z, value_hi = z;
+  for (int i = 0; i < kMaxValues; ++i) {
+    int rank = 0;
+    for (int j = 0; j < kMaxValues; ++j) {
+      rank += (values[j] < values[i] || (values[j] == values[i] && j < i)) ? 1 : 0;
+    }
+    value_lo = rank == lo ? values[i] : value_lo;
+    value_hi = rank == hi ? values[i] : value_hi;
   }
-  const float median = count % 2 ? values[count / 2] : 0.5f * (values[count / 2 - 1] + values[count / 2]);
+  const float median = 0.5f * (value_lo + value_hi);
   if (median != z) StorePlane(in.plane, idx, PlaneFromDepthNormal(ray, median, own.n));
 }
 

@@ -2,10 +2,12 @@
 // tilted against every camera, seen by cameras rotated about several axes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "kernels/median_filter.h"
 #include "kernels/patch_match.h"
 #include "tests/plane_scene_util.h"
 
@@ -164,6 +166,48 @@ TEST(MedianFilterDepthsCpu, KeepsSlantedPlaneAndRemovesOutliers) {
       EXPECT_NEAR(DepthAt(r, cam, u, v), PlaneDepth(plane, PixelRay(cam, float(u), float(v))), 1e-3f)
           << "u=" << u << " v=" << v;
     }
+  }
+}
+
+// The branch-free rank selection gives the sorted-array median, ties and even counts
+// included (the centre value counts; invalid neighbours do not).
+TEST(MedianFilterPixel, EqualsTheSortedMedian) {
+  Camera cam;
+  cam.width = cam.height = 11;
+  cam.fx = cam.fy = 20.f;
+  cam.cx = cam.cy = 5.f;
+  const Vec3 ray = PixelRay(cam, 5.f, 5.f);
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<float> plane(4 * 121), cost(121, 0.5f), photo(121, 0.5f);
+    std::uniform_int_distribution<int> level(0, 5);  // few distinct depths: many ties
+    for (int i = 0; i < 121; ++i) {
+      const Vec3 r = PixelRay(cam, float(i % 11), float(i / 11));
+      StorePlane(plane.data(), i, PlaneFromDepthNormal(r, 4.f + 0.5f * level(rng), Vec3{0.f, 0.f, -1.f}));
+      if (i != 60 && level(rng) == 0) photo[i] = kInvalidCost;
+    }
+    std::vector<float> expected;
+    for (int i = 0; i < 121; ++i) {
+      const int du = i % 11 - 5, dv = i / 11 - 5;
+      const bool neighbour = (du == 0 && (dv == 1 || dv == -1 || dv == 3 || dv == -3 || dv == 5 || dv == -5)) ||
+                             (dv == 0 && (du == 1 || du == -1 || du == 3 || du == -3 || du == 5 || du == -5)) ||
+                             (std::abs(du) == 2 && std::abs(dv) == 1) || (std::abs(du) == 1 && std::abs(dv) == 2);
+      if (i == 60 || (neighbour && photo[i] < kInvalidCost)) {
+        expected.push_back(PlaneDepth(LoadPlane(plane.data(), i), ray));
+      }
+    }
+    std::sort(expected.begin(), expected.end());
+    const size_t n = expected.size();
+    const float median = n % 2 ? expected[n / 2] : 0.5f * (expected[n / 2 - 1] + expected[n / 2]);
+    MedianFilterInput in;
+    in.camera = cam;
+    in.depth_min = 1.f;
+    in.depth_max = 20.f;
+    in.plane = plane.data();
+    in.cost = cost.data();
+    in.photo_cost = photo.data();
+    MedianFilterPixel(in, 5, 5);
+    EXPECT_NEAR(PlaneDepth(LoadPlane(plane.data(), 60), ray), median, 1e-5f) << "trial " << trial << ", " << n << " values";
   }
 }
 
