@@ -199,6 +199,23 @@ RgbImage RgbFromBitmap(FIBITMAP* bitmap) {
   return image;
 }
 
+// A 24-bit bitmap of an RgbImage whose size the caller has checked.
+BitmapPtr BitmapFromRgb(const std::string& path, const RgbImage& image) {
+  InitializeFreeImage();
+  BitmapPtr bitmap(FreeImage_Allocate(image.width, image.height, 24));
+  if (!bitmap) ThrowFileError(path, "cannot allocate the image");
+  for (int row = 0; row < image.height; ++row) {
+    BYTE* line = TopDownRowMutable(bitmap.get(), row);
+    const uint8_t* in = image.data.data() + 3 * static_cast<size_t>(row) * image.width;
+    for (int col = 0; col < image.width; ++col) {
+      line[3 * col + FI_RGBA_RED] = in[3 * col + 0];
+      line[3 * col + FI_RGBA_GREEN] = in[3 * col + 1];
+      line[3 * col + FI_RGBA_BLUE] = in[3 * col + 2];
+    }
+  }
+  return bitmap;
+}
+
 }  // namespace
 
 RgbImage ReadRgbImage(const std::string& path) {
@@ -218,18 +235,7 @@ RgbImage ResizeRgbImage(const RgbImage& image, int new_width, int new_height) {
                              std::to_string(new_height));
   }
   if (new_width == image.width && new_height == image.height) return image;
-  InitializeFreeImage();
-  BitmapPtr bitmap(FreeImage_Allocate(image.width, image.height, 24));
-  if (!bitmap) ThrowFileError(what, "cannot allocate the image");
-  for (int row = 0; row < image.height; ++row) {
-    BYTE* line = TopDownRowMutable(bitmap.get(), row);
-    const uint8_t* in = image.data.data() + 3 * static_cast<size_t>(row) * image.width;
-    for (int col = 0; col < image.width; ++col) {
-      line[3 * col + FI_RGBA_RED] = in[3 * col + 0];
-      line[3 * col + FI_RGBA_GREEN] = in[3 * col + 1];
-      line[3 * col + FI_RGBA_BLUE] = in[3 * col + 2];
-    }
-  }
+  BitmapPtr bitmap = BitmapFromRgb(what, image);
   BitmapPtr scaled(FreeImage_Rescale(bitmap.get(), new_width, new_height, FILTER_BILINEAR));
   if (!scaled) ThrowFileError(what, "FreeImage_Rescale failed" + FreeImageDetail());
   if (!IsRgb24(scaled.get())) {
@@ -265,18 +271,7 @@ GrayImage ResizeGrayImage(const GrayImage& image, int new_width, int new_height)
 void WriteRgbPng(const std::string& path, const RgbImage& image) {
   if (image.data.size() % 3 != 0) ThrowFileError(path, "RGB data size is not a multiple of 3");
   CheckImageSize(path, image.width, image.height, image.data.size() / 3);
-  InitializeFreeImage();
-  BitmapPtr bitmap(FreeImage_Allocate(image.width, image.height, 24));
-  if (!bitmap) ThrowFileError(path, "cannot allocate the image");
-  for (int row = 0; row < image.height; ++row) {
-    BYTE* line = TopDownRowMutable(bitmap.get(), row);
-    const uint8_t* in = image.data.data() + 3 * static_cast<size_t>(row) * image.width;
-    for (int col = 0; col < image.width; ++col) {
-      line[3 * col + FI_RGBA_RED] = in[3 * col + 0];
-      line[3 * col + FI_RGBA_GREEN] = in[3 * col + 1];
-      line[3 * col + FI_RGBA_BLUE] = in[3 * col + 2];
-    }
-  }
+  BitmapPtr bitmap = BitmapFromRgb(path, image);
   SavePngAtomically(path, bitmap.get());
 }
 
