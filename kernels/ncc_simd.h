@@ -46,6 +46,19 @@ inline bool MakeQuadImage(const ImageView& img, std::vector<uint32_t>* quads) {
 namespace mpmvs {
 namespace kernels {
 
+// The three horizontal sums of 8-lane s, ss, rs at once ([s, ss, rs, rs] by unpack and
+// shuffle): a third of the instructions of three separate reductions.
+inline void SumThree(__m256 s8, __m256 ss8, __m256 rs8, float* s, float* ss, float* rs) {
+  const __m256 a = _mm256_add_ps(_mm256_unpacklo_ps(s8, ss8), _mm256_unpackhi_ps(s8, ss8));
+  const __m256 c = _mm256_add_ps(_mm256_unpacklo_ps(rs8, rs8), _mm256_unpackhi_ps(rs8, rs8));
+  const __m256 abc = _mm256_add_ps(_mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0)),
+                                   _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2)));
+  const __m128 sums = _mm_add_ps(_mm256_castps256_ps128(abc), _mm256_extractf128_ps(abc, 1));
+  *s = _mm_cvtss_f32(sums);
+  *ss = _mm_cvtss_f32(_mm_movehdup_ps(sums));
+  *rs = _mm_cvtss_f32(_mm_movehl_ps(sums, sums));
+}
+
 #if defined(__AVX512F__)
 // AVX-512 form of the 8-bit path: the 36 samples in two 16-lane blocks and a 4-lane tail.
 inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const float H[9], float fu,
@@ -130,14 +143,8 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
   const __m256 ss8 = _mm256_fmadd_ps(wv, value, _mm256_add_ps(low(sum_ss), high(sum_ss)));
   const __m256 rs8 = _mm256_fmadd_ps(_mm256_loadu_ps(patch.weighted_value + 32), value,
                                      _mm256_add_ps(low(sum_rs), high(sum_rs)));
-  // The three horizontal sums at once: [s, ss, rs, rs] in one 128-bit register.
-  const __m256 a = _mm256_add_ps(_mm256_unpacklo_ps(s8, ss8), _mm256_unpackhi_ps(s8, ss8));
-  const __m256 c = _mm256_add_ps(_mm256_unpacklo_ps(rs8, rs8), _mm256_unpackhi_ps(rs8, rs8));
-  const __m256 abc = _mm256_add_ps(_mm256_shuffle_ps(a, c, _MM_SHUFFLE(1, 0, 1, 0)),
-                                   _mm256_shuffle_ps(a, c, _MM_SHUFFLE(3, 2, 3, 2)));
-  const __m128 sums = _mm_add_ps(_mm256_castps256_ps128(abc), _mm256_extractf128_ps(abc, 1));
-  const float s = _mm_cvtss_f32(sums), ss = _mm_cvtss_f32(_mm_movehdup_ps(sums));
-  const float rs = _mm_cvtss_f32(_mm_movehl_ps(sums, sums));
+  float s, ss, rs;
+  SumThree(s8, ss8, rs8, &s, &ss, &rs);
   const float var_s = ss - s * s;
   if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
   const float cov = rs - patch.mean * s;
@@ -224,12 +231,8 @@ inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, c
     sum_ss = _mm256_fmadd_ps(wv, value, sum_ss);
     sum_rs = _mm256_fmadd_ps(_mm256_loadu_ps(patch.weighted_value + b), value, sum_rs);
   }
-  auto hsum = [](__m256 a) {
-    const __m128 s = _mm_add_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
-    const __m128 t = _mm_add_ps(s, _mm_movehl_ps(s, s));
-    return _mm_cvtss_f32(_mm_add_ss(t, _mm_shuffle_ps(t, t, 1)));
-  };
-  const float s = hsum(sum_s), ss = hsum(sum_ss), rs = hsum(sum_rs);
+  float s, ss, rs;
+  SumThree(sum_s, sum_ss, sum_rs, &s, &ss, &rs);
   const float var_s = ss - s * s;
   if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
   const float cov = rs - patch.mean * s;
