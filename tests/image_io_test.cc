@@ -118,12 +118,18 @@ TEST(ImageIoTest, AlphaAndSixteenBitImagesGoThroughTwentyFourBits) {
     pixel->blue = static_cast<WORD>(p[2] * 257);
   });
   EXPECT_EQ(ReadGrayImage(dir / "rgb16.png").data, expected.data);
+  EXPECT_EQ(ReadRgbImage(dir / "rgb16.png").data, image.data);  // the chroma guide's reader
 
   SaveSpecialPng(dir / "grey16.png", FIT_UINT16, 16, 8, 6, [&](int row, int col, BYTE* line) {
     reinterpret_cast<WORD*>(line)[col] = static_cast<WORD>((row * 8 + col) * 257);
   });
   const GrayImage grey16 = ReadGrayImage(dir / "grey16.png");
   for (int i = 0; i < 48; ++i) EXPECT_EQ(grey16.data[i], i);
+  const RgbImage grey16_rgb = ReadRgbImage(dir / "grey16.png");
+  ASSERT_EQ(grey16_rgb.data.size(), 3u * 48);
+  for (int i = 0; i < 48; ++i) {
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(grey16_rgb.data[3 * i + c], i);
+  }
 }
 
 TEST(ImageIoTest, BadFilesNameTheFile) {
