@@ -42,19 +42,24 @@ MPMVS_HD inline void MedianFilterPixel(const MedianFilterInput& in, int u, int v
     if (zq >= in.depth_min && zq <= in.depth_max) values[count++] = zq;
   }
   // Median by rank counting over a fixed-size padded array: no data-dependent branches
-  // (a sort of random depths mispredicts most of its comparisons). Ties are ranked by
-  // position, so the result equals the sorted-array median.
+  // (a sort of random depths mispredicts most of its comparisons). Value i occupies the
+  // sorted positions [#less, #less-or-equal), so ties need no index order; the result
+  // equals the sorted-array median.
   constexpr int kMaxValues = 21;
   for (int i = count; i < kMaxValues; ++i) values[i] = 3.0e38f;
+  int less[kMaxValues], less_equal[kMaxValues];
+  for (int i = 0; i < kMaxValues; ++i) less[i] = less_equal[i] = 0;
+  for (int j = 0; j < kMaxValues; ++j) {  // inner loop over i: vectorises without reductions
+    for (int i = 0; i < kMaxValues; ++i) {
+      less[i] += values[j] < values[i] ? 1 : 0;
+      less_equal[i] += values[j] <= values[i] ? 1 : 0;
+    }
+  }
   const int lo = (count - 1) / 2, hi = count / 2;
   float value_lo = z, value_hi = z;
   for (int i = 0; i < kMaxValues; ++i) {
-    int rank = 0;
-    for (int j = 0; j < kMaxValues; ++j) {
-      rank += (values[j] < values[i] || (values[j] == values[i] && j < i)) ? 1 : 0;
-    }
-    value_lo = rank == lo ? values[i] : value_lo;
-    value_hi = rank == hi ? values[i] : value_hi;
+    value_lo = less[i] <= lo && lo < less_equal[i] ? values[i] : value_lo;
+    value_hi = less[i] <= hi && hi < less_equal[i] ? values[i] : value_hi;
   }
   const float median = 0.5f * (value_lo + value_hi);
   if (median != z) StorePlane(in.plane, idx, PlaneFromDepthNormal(ray, median, own.n));
