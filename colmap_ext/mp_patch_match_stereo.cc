@@ -388,8 +388,19 @@ std::unique_ptr<StageReference> Controller::PrepareReference(int stage_index, co
     ref->images.push_back(ref_image);
     problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
     if (run_.options.chroma_weight > 0) {
-      ref->chroma = MakeChromaGuide(io_->ReadRgb(workspace_, p.ref), static_cast<float>(run_.options.chroma_weight));
-      problem.ref_image.chroma = ref->chroma.data();
+      const RgbImage rgb = io_->ReadRgb(workspace_, p.ref);
+      if (rgb.width != ref_image->width || rgb.height != ref_image->height) {
+        throw Error(workspace_.views[p.ref].image_path + ": colour image is " + std::to_string(rgb.width) +
+                    "x" + std::to_string(rgb.height) + " but the grey image is " +
+                    std::to_string(ref_image->width) + "x" + std::to_string(ref_image->height));
+      }
+      ref->chroma = MakeChromaGuide(rgb, static_cast<float>(run_.options.chroma_weight));
+      // A grey picture has no chroma: leave the guide out (nothing to read or upload).
+      if (std::any_of(ref->chroma.begin(), ref->chroma.end(), [](float c) { return c != 0.f; })) {
+        problem.ref_image.chroma = ref->chroma.data();
+      } else {
+        ref->chroma.clear();
+      }
     }
     if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
     for (int src : p.src) {

@@ -110,7 +110,7 @@ float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float
 }
 
 const char* CpuBackendNccName() {
-#if defined(MPMVS_HAVE_SIMD_NCC) && defined(__AVX512F__)
+#if defined(MPMVS_HAVE_SIMD_NCC) && defined(__AVX512F__) && defined(__AVX512VL__)
   return "AVX-512";
 #elif defined(MPMVS_HAVE_SIMD_NCC)
   return "AVX2";

@@ -46,7 +46,7 @@ MPMVS_HD inline void MedianFilterPixel(const MedianFilterInput& in, int u, int v
   // sorted positions [#less, #less-or-equal), so ties need no index order; the result
   // equals the sorted-array median.
   constexpr int kMaxValues = 21;
-  for (int i = count; i < kMaxValues; ++i) values[i] = 3.0e38f;
+  for (int i = count; i < kMaxValues; ++i) values[i] = INFINITY;  // ranks after every depth
   int less[kMaxValues], less_equal[kMaxValues];
   for (int i = 0; i < kMaxValues; ++i) less[i] = less_equal[i] = 0;
   for (int j = 0; j < kMaxValues; ++j) {  // inner loop over i: vectorises without reductions

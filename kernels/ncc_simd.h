@@ -10,10 +10,19 @@
 namespace mpmvs {
 namespace kernels {
 
+// Largest image for the packed layout: the AVX-512 form computes row-major indices in
+// float, exact only up to 2^24.
+constexpr size_t kMaxQuadImagePixels = size_t{1} << 24;
+
 // Packs an 8-bit image into ImageView::quads. Returns false, leaving quads empty, when a
-// value is not an integer in 0..255 (then the float path is used): bytes must be exact.
+// value is not an integer in 0..255 (bytes must be exact) or the image has more than
+// kMaxQuadImagePixels pixels; the float path is used then.
 inline bool MakeQuadImage(const ImageView& img, std::vector<uint32_t>* quads) {
   const size_t n = static_cast<size_t>(img.width) * img.height;
+  if (n > kMaxQuadImagePixels) {
+    quads->clear();
+    return false;
+  }
   for (size_t i = 0; i < n; ++i) {
     const float value = img.data[i];
     if (!(value >= 0.f && value <= 255.f) || value != static_cast<float>(static_cast<int>(value))) {
@@ -59,7 +68,7 @@ inline void SumThree(__m256 s8, __m256 ss8, __m256 rs8, float* s, float* ss, flo
   *rs = _mm_cvtss_f32(_mm_movehl_ps(sums, sums));
 }
 
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__AVX512VL__)
 // AVX-512 form of the 8-bit path: the 36 samples in two 16-lane blocks and a 4-lane tail.
 inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const float H[9], float fu,
                              float fv) {
@@ -156,7 +165,7 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
 inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, const float H[9], int u,
                                   int v, const WindowSpec& /*win*/) {
   const float fu = static_cast<float>(u), fv = static_cast<float>(v);
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__AVX512VL__)
   if (src.quads) return NccCostQuads512(patch, src, H, fu, fv);
 #endif
 

@@ -317,6 +317,10 @@ TEST(KernelNcc, CpuBackendNccEqualsSharedScalar) {
   std::vector<uint32_t> refused;
   EXPECT_FALSE(MakeQuadImage(ImageView{fractional.data(), W, H}, &refused));
   EXPECT_TRUE(refused.empty());
+  // Past 2^24 pixels float indices are no longer exact: the float path takes over.
+  const std::vector<float> huge(static_cast<size_t>(4097) * 4096, 7.f);
+  EXPECT_FALSE(MakeQuadImage(ImageView{huge.data(), 4097, 4096}, &refused));
+  EXPECT_TRUE(refused.empty());
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
   int compared = 0;

@@ -169,35 +169,40 @@ TEST(MedianFilterDepthsCpu, KeepsSlantedPlaneAndRemovesOutliers) {
   }
 }
 
-// The branch-free rank selection gives the sorted-array median, ties and even counts
-// included (the centre value counts; invalid neighbours do not).
+// The branch-free rank selection gives the sorted-array median for every number of values
+// (1..21: the centre and 0..20 valid neighbours), ties included.
 TEST(MedianFilterPixel, EqualsTheSortedMedian) {
   Camera cam;
   cam.width = cam.height = 11;
   cam.fx = cam.fy = 20.f;
   cam.cx = cam.cy = 5.f;
   const Vec3 ray = PixelRay(cam, 5.f, 5.f);
+  const int du[20] = {0, 0, 0, 0, 0, 0, 1, -1, 3, -3, 5, -5, 2, 2, -2, -2, 1, 1, -1, -1};
+  const int dv[20] = {1, -1, 3, -3, 5, -5, 0, 0, 0, 0, 0, 0, 1, -1, 1, -1, 2, -2, 2, -2};
   std::mt19937 rng(7);
-  for (int trial = 0; trial < 50; ++trial) {
+  std::uniform_int_distribution<int> level(0, 5);  // few distinct depths: many ties
+  for (int trial = 0; trial < 21 * 4; ++trial) {
+    const int valid_neighbours = trial % 21;
     std::vector<float> plane(4 * 121), cost(121, 0.5f), photo(121, 0.5f);
-    std::uniform_int_distribution<int> level(0, 5);  // few distinct depths: many ties
     for (int i = 0; i < 121; ++i) {
       const Vec3 r = PixelRay(cam, float(i % 11), float(i / 11));
       StorePlane(plane.data(), i, PlaneFromDepthNormal(r, 4.f + 0.5f * level(rng), Vec3{0.f, 0.f, -1.f}));
-      if (i != 60 && level(rng) == 0) photo[i] = kInvalidCost;
     }
-    std::vector<float> expected;
-    for (int i = 0; i < 121; ++i) {
-      const int du = i % 11 - 5, dv = i / 11 - 5;
-      const bool neighbour = (du == 0 && (dv == 1 || dv == -1 || dv == 3 || dv == -3 || dv == 5 || dv == -5)) ||
-                             (dv == 0 && (du == 1 || du == -1 || du == 3 || du == -3 || du == 5 || du == -5)) ||
-                             (std::abs(du) == 2 && std::abs(dv) == 1) || (std::abs(du) == 1 && std::abs(dv) == 2);
-      if (i == 60 || (neighbour && photo[i] < kInvalidCost)) {
-        expected.push_back(PlaneDepth(LoadPlane(plane.data(), i), ray));
+    std::vector<int> order(20);
+    for (int k = 0; k < 20; ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<float> expected = {PlaneDepth(LoadPlane(plane.data(), 60), ray)};
+    for (int n = 0; n < 20; ++n) {
+      const int q = (5 + dv[order[n]]) * 11 + 5 + du[order[n]];
+      if (n < valid_neighbours) {
+        expected.push_back(PlaneDepth(LoadPlane(plane.data(), q), ray));
+      } else {
+        photo[q] = kInvalidCost;
       }
     }
     std::sort(expected.begin(), expected.end());
     const size_t n = expected.size();
+    ASSERT_EQ(n, static_cast<size_t>(valid_neighbours + 1));
     const float median = n % 2 ? expected[n / 2] : 0.5f * (expected[n / 2 - 1] + expected[n / 2]);
     MedianFilterInput in;
     in.camera = cam;
