@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -155,7 +155,7 @@ struct StageReference {
   bool filter_here = false;
   kernels::PatchMatchProblem pm;
   std::vector<std::shared_ptr<const GrayImage>> images;
-  std::vector<float> chroma;  // pm.ref_image.chroma
+  std::shared_ptr<const std::vector<float>> chroma;  // pm.ref_image.chroma
   std::vector<std::shared_ptr<const std::vector<float>>> depths;
   kernels::PatchMatchResult input;  // the input stage's planes and costs (pm.init_*)
   PlanarPriorModel prior;           // pm.prior_*
@@ -180,6 +180,9 @@ class Controller {
   // Loads and assembles reference image p of a stage (images, source depth maps, initial
   // state, planar prior); decides whether it is computed, resumed or skipped.
   std::unique_ptr<StageReference> PrepareReference(int stage_index, const Problem& p);
+  // The chroma guide of a view at its working size; empty for a grey picture (nothing to
+  // read or upload).
+  std::vector<float> ReadChromaGuide(int view) const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   void WriteFinal(const Problem& problem, const kernels::PatchMatchProblem& pm_problem,
                   const kernels::PatchMatchResult& result, const std::string& type);
@@ -192,6 +195,7 @@ class Controller {
   std::map<int, float> view_depth_min_, view_depth_max_;
   std::unique_ptr<Backend> backend_;
   std::unique_ptr<LruCache<int, GrayImage>> images_;
+  std::unique_ptr<LruCache<int, std::vector<float>>> chroma_guides_;  // empty: a grey picture
   std::unique_ptr<LruCache<std::pair<int, int>, std::vector<float>>> depths_;
 };
 
@@ -280,11 +284,16 @@ MpPatchMatchSummary Controller::Run() {
   backend_ = std::make_unique<Backend>(run_.colmap_options, run_.cpu_look_ahead);
   summary.backend = backend_->Name();
   const size_t cache_bytes = static_cast<size_t>(run_.colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
+  // Budget: a third each for grey images, chroma guides (reference images, every stage)
+  // and source depth maps.
   images_ = std::make_unique<LruCache<int, GrayImage>>(
-      cache_bytes / 2, [this](const int& view) { return io_->ReadGray(workspace_, view); },
+      cache_bytes / 3, [this](const int& view) { return io_->ReadGray(workspace_, view); },
       [](const GrayImage& img) { return img.data.size() * sizeof(float); });
+  chroma_guides_ = std::make_unique<LruCache<int, std::vector<float>>>(
+      cache_bytes / 3, [this](const int& view) { return ReadChromaGuide(view); },
+      [](const std::vector<float>& g) { return g.size() * sizeof(float); });
   depths_ = std::make_unique<LruCache<std::pair<int, int>, std::vector<float>>>(
-      cache_bytes / 2,
+      cache_bytes / 3,
       [this](const std::pair<int, int>& key) {
         const FloatMap state = ReadFloatMap(StatePath(key.second, plan_.stages[key.first].name), kStateChannels);
         return StateDepth(state, ToKernelCamera(workspace_.views[key.second]), view_depth_min_[key.second],
@@ -360,6 +369,19 @@ void Controller::WriteFinal(const Problem& problem, const kernels::PatchMatchPro
   }
 }
 
+std::vector<float> Controller::ReadChromaGuide(int view) const {
+  const RgbImage rgb = io_->ReadRgb(workspace_, view);
+  const DenseView& v = workspace_.views[view];
+  if (rgb.width != v.width || rgb.height != v.height) {
+    throw Error(v.image_path + ": colour image is " + std::to_string(rgb.width) + "x" +
+                std::to_string(rgb.height) + " but the view is " + std::to_string(v.width) + "x" +
+                std::to_string(v.height));
+  }
+  std::vector<float> guide = MakeChromaGuide(rgb, static_cast<float>(run_.options.chroma_weight));
+  if (std::none_of(guide.begin(), guide.end(), [](float c) { return c != 0.f; })) guide.clear();
+  return guide;
+}
+
 std::unique_ptr<StageReference> Controller::PrepareReference(int stage_index, const Problem& p) {
   const StagePlan& stage = plan_.stages[stage_index];
   auto ref = std::make_unique<StageReference>();
@@ -388,19 +410,8 @@ std::unique_ptr<StageReference> Controller::PrepareReference(int stage_index, co
     ref->images.push_back(ref_image);
     problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
     if (run_.options.chroma_weight > 0) {
-      const RgbImage rgb = io_->ReadRgb(workspace_, p.ref);
-      if (rgb.width != ref_image->width || rgb.height != ref_image->height) {
-        throw Error(workspace_.views[p.ref].image_path + ": colour image is " + std::to_string(rgb.width) +
-                    "x" + std::to_string(rgb.height) + " but the grey image is " +
-                    std::to_string(ref_image->width) + "x" + std::to_string(ref_image->height));
-      }
-      ref->chroma = MakeChromaGuide(rgb, static_cast<float>(run_.options.chroma_weight));
-      // A grey picture has no chroma: leave the guide out (nothing to read or upload).
-      if (std::any_of(ref->chroma.begin(), ref->chroma.end(), [](float c) { return c != 0.f; })) {
-        problem.ref_image.chroma = ref->chroma.data();
-      } else {
-        ref->chroma.clear();
-      }
+      ref->chroma = chroma_guides_->Get(p.ref);
+      if (!ref->chroma->empty()) problem.ref_image.chroma = ref->chroma->data();
     }
     if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
     for (int src : p.src) {
