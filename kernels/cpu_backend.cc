@@ -106,7 +106,7 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
 
 float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,
                         const WindowSpec& window) {
-  return CpuNcc::Cost(patch, src, H, u, v, window);
+  return NccCost<CpuNcc>(patch, src, H, u, v, window);
 }
 
 const char* CpuBackendNccName() {

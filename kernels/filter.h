@@ -35,7 +35,7 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
     const SourceView& src = params.sources[s];
     float H[9];
     PlaneHomography(src.rel, m, H);
-    const float cost = Ncc::Cost(patch, src.image, H, u, v, WindowForScale(0));
+    const float cost = NccCost<Ncc>(patch, src.image, H, u, v, WindowForScale(0));
     if (1.f - cost < filter.min_ncc) continue;
     // Source centre in the reference frame is tinv; the angle at X between both rays.
     const Vec3 to_ref = Normalize(-X);

@@ -141,9 +141,6 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   patch->centre = centre;
 }
 
-// NCC cost in [0, 2] of the reference patch against a source image under homography H
-// (reference pixel -> source pixel). 2 when the centre maps outside the source image,
-// behind it, or either patch is flat.
 // Whether an NCC is defined at all: the window centre maps in front of the source camera
 // and inside its image, and the reference patch is not flat. Only the centre is tested.
 MPMVS_HD MPMVS_FORCE_INLINE bool NccDefined(const RefPatch& patch, const ImageView& src,
@@ -187,26 +184,32 @@ MPMVS_HD inline float NccCostOfDefined(const RefPatch& patch, const ImageView& s
   return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
 }
 
-MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
-                                     int u, int v, const WindowSpec& win) {
-  if (!NccDefined(patch, src, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
-  return NccCostOfDefined(patch, src, H, u, v, win);
-}
-
-// The portable NCC used on the device and as the reference on the host. Cost checks
-// NccDefined; CostOfDefined leaves that to the caller (which counts the NCCs it samples).
+// The portable NCC used on the device and as the reference on the host. An NCC policy's
+// CostOfDefined samples a window for which NccDefined holds (the caller has checked, and
+// counts the NCCs it samples); NccCost below adds the check.
 struct ScalarNcc {
-  MPMVS_HD MPMVS_FORCE_INLINE static float Cost(const RefPatch& patch, const ImageView& src,
-                                                const float H[9], int u, int v,
-                                                const WindowSpec& win) {
-    return ComputeNccCost(patch, src, H, u, v, win);
-  }
   MPMVS_HD MPMVS_FORCE_INLINE static float CostOfDefined(const RefPatch& patch, const ImageView& src,
                                                          const float H[9], int u, int v,
                                                          const WindowSpec& win) {
     return NccCostOfDefined(patch, src, H, u, v, win);
   }
 };
+
+// NCC cost in [0, 2] of the reference patch against a source image under homography H
+// (reference pixel -> source pixel). 2 when the centre maps outside the source image,
+// behind it, or either patch is flat.
+template <class Ncc>
+MPMVS_HD MPMVS_FORCE_INLINE float NccCost(const RefPatch& patch, const ImageView& src, const float H[9],
+                                          int u, int v, const WindowSpec& win) {
+  if (!NccDefined(patch, src, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
+  return Ncc::CostOfDefined(patch, src, H, u, v, win);
+}
+
+// The scalar NccCost: the reference the vectorised CPU form is tested against.
+MPMVS_HD inline float ComputeNccCost(const RefPatch& patch, const ImageView& src, const float H[9],
+                                     int u, int v, const WindowSpec& win) {
+  return NccCost<ScalarNcc>(patch, src, H, u, v, win);
+}
 
 }  // namespace kernels
 }  // namespace mpmvs

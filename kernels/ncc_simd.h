@@ -249,11 +249,6 @@ inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, c
 }
 
 struct SimdNcc {
-  static float Cost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,
-                    const WindowSpec& win) {
-    if (!NccDefined(patch, src, H, static_cast<float>(u), static_cast<float>(v))) return kInvalidCost;
-    return NccCostOfDefinedSimd(patch, src, H, u, v, win);
-  }
   static float CostOfDefined(const RefPatch& patch, const ImageView& src, const float H[9], int u,
                              int v, const WindowSpec& win) {
     return NccCostOfDefinedSimd(patch, src, H, u, v, win);
