@@ -35,10 +35,10 @@ struct DeviceProblem {
 
 int SelectDevice(const CudaSessionOptions& options) {
   std::string why;
-  if (!CudaDeviceAvailable(options.gpu_index, &why)) {  // also rejects negative indices
+  options.Check();
+  if (!CudaDeviceAvailable(options.gpu_index, &why)) {
     throw std::runtime_error("CUDA backend unusable: " + why);
   }
-  options.Check();
   MPMVS_CUDA_CHECK(cudaSetDevice(options.gpu_index));
   return options.gpu_index;
 }
@@ -65,11 +65,6 @@ size_t CacheBudget(const CudaSessionOptions& options) {
   size_t free_bytes = 0, total_bytes = 0;
   MPMVS_CUDA_CHECK(cudaMemGetInfo(&free_bytes, &total_bytes));
   return DeviceCacheBudget(options.cache_size_bytes, free_bytes);
-}
-
-size_t AlignUp(size_t n) {
-  return (n + DeviceCachePlanner::kAlignment - 1) / DeviceCachePlanner::kAlignment *
-         DeviceCachePlanner::kAlignment;
 }
 
 }  // namespace
@@ -110,9 +105,6 @@ class CudaSession::Impl {
   void UploadAhead(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule);
   void DropAhead();
   PixelState ReserveState(int width, int height);
-  cudaStream_t StreamOf(CudaStreamRole role) const {
-    return role == CudaStreamRole::kCopy ? copy_.get() : compute_.get();
-  }
 
   int device_;
   Stream compute_;  // kernels, per-pixel state, downloads
@@ -203,14 +195,13 @@ void CudaSession::Impl::Execute(const PatchMatchProblem& problem, DeviceProblem*
       }
       host = views.data();
     }
-    if (!host) throw std::invalid_argument("CUDA session: an input of the problem has no data");
     char* staged = slot.staging.get() + up.staging_offset;
     std::memcpy(staged, host, up.bytes);
     MPMVS_CUDA_CHECK(cudaMemcpyAsync(device[up.input], staged, up.bytes, cudaMemcpyHostToDevice,
-                                     StreamOf(up.stream)));
+                                     copy));
   }
   // Also covers the earlier copies this problem's cache hits depend on (one copy stream).
-  MPMVS_CUDA_CHECK(cudaEventRecord(slots_[plan.ready_event].uploaded.get(), copy));
+  MPMVS_CUDA_CHECK(cudaEventRecord(slot.uploaded.get(), copy));
 }
 
 void CudaSession::Impl::DropAhead() {
@@ -224,20 +215,23 @@ void CudaSession::Impl::DropAhead() {
 void CudaSession::Impl::UploadAhead(const PatchMatchProblem& problem,
                                     const PatchMatchSchedule& schedule) {
   DropAhead();
+  std::vector<DeviceInput> inputs;
   try {
     MakePassParams(problem, schedule, nullptr);  // the checks only
+    inputs = ListDeviceInputs(problem, schedule);
   } catch (const std::invalid_argument&) {
     return;  // not uploaded; the Run of that problem reports the error
   }
-  ahead_ = Upload(problem, ListDeviceInputs(problem, schedule));
+  ahead_ = Upload(problem, std::move(inputs));
 }
 
 PixelState CudaSession::Impl::ReserveState(int width, int height) {
   const StateLayout layout = MakeStateLayout(width, height);
   const size_t plane = layout.plane_floats * sizeof(float);
   const size_t cost = layout.cost_floats * sizeof(float);
-  const size_t offsets[] = {0, AlignUp(plane), AlignUp(plane) + AlignUp(cost),
-                            AlignUp(plane) + 2 * AlignUp(cost), AlignUp(plane) + 3 * AlignUp(cost)};
+  // plane, then three cost-sized arrays (cost, photo cost, geometric error), then the masks.
+  size_t offsets[5] = {0, AlignUp(plane)};
+  for (int k = 2; k < 5; ++k) offsets[k] = offsets[k - 1] + AlignUp(cost);
   const size_t total = offsets[4] + layout.mask_words * sizeof(uint32_t);
   PixelState state;
   if (layout.num_pixels == 0) return state;
@@ -302,7 +296,7 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
 
   // The kernels start once this problem's uploads (and all earlier copies) are done.
   MPMVS_CUDA_CHECK(
-      cudaStreamWaitEvent(compute, slots_[current->plan.ready_event].uploaded.get(), 0));
+      cudaStreamWaitEvent(compute, slots_[current->plan.slot].uploaded.get(), 0));
   // While they run: assemble the next problem on the host and queue its uploads.
   auto look_ahead = [&] {
     if (!next) return;

@@ -77,7 +77,6 @@ class DeviceAllocator {
       MPMVS_CUDA_CHECK(cudaFree(ptr));
     }
   }
-  bool stream_ordered() const { return stream_ordered_; }
 
  private:
   bool stream_ordered_ = false;

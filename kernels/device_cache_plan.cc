@@ -8,8 +8,6 @@ namespace mpmvs {
 namespace kernels {
 namespace {
 
-size_t AlignUp(size_t n, size_t alignment) { return (n + alignment - 1) / alignment * alignment; }
-
 size_t ImageBytes(int width, int height) {
   return MakeStateLayout(width, height).num_pixels * sizeof(float);
 }
@@ -35,6 +33,10 @@ std::vector<DeviceInput> ListDeviceInputs(const PatchMatchProblem& problem,
   auto add = [&](DeviceInputRole role, int source, const DeviceCacheKey* key, size_t bytes,
                  const void* host) {
     if (bytes == 0) return;
+    // Checked here, before any plan records an entry that would then never be filled.
+    if (!host && role != DeviceInputRole::kSourceViews) {
+      throw std::invalid_argument("CUDA session: an input of the problem has no data");
+    }
     DeviceInput in;
     in.role = role;
     in.source = source;
@@ -145,7 +147,6 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
   bool slot_used[kNumSlots] = {false, false};
   for (const auto& flight : in_flight_) slot_used[flight.second.slot] = true;
   plan.slot = slot_used[0] ? 1 : 0;
-  plan.ready_event = plan.slot;
   Flight flight;
   flight.slot = plan.slot;
   plan.placements.resize(inputs.size());
@@ -154,9 +155,8 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
     PlannedUpload up;
     up.input = input;
     up.bytes = inputs[input].bytes;
-    up.staging_offset = AlignUp(staging, kAlignment);
+    up.staging_offset = AlignUp(staging);
     staging = up.staging_offset + up.bytes;
-    up.stream = CudaStreamRole::kCopy;
     up.copy_sequence = ++copy_sequence_;
     stats_.uploaded_bytes += up.bytes;
     plan.uploads.push_back(up);
@@ -164,12 +164,8 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
     plan.placements[input].copy_sequence = up.copy_sequence;
   };
 
-  // 1. Pin what is on the device already, so that making room below cannot evict it.
-  std::vector<bool> placed(inputs.size(), false);
-  for (size_t i = 0; i < inputs.size(); ++i) {
-    if (!inputs[i].cached) continue;
-    auto it = entries_.find(inputs[i].key);
-    if (it == entries_.end()) continue;
+  // Input i found in the cache: pin it, so that making room below cannot evict it.
+  auto place_hit = [&](size_t i, std::map<DeviceCacheKey, Entry>::iterator it) {
     if (it->second.bytes != inputs[i].bytes) {
       throw std::invalid_argument("device cache: " + DescribeKey(inputs[i].key) + " has " +
                                   std::to_string(inputs[i].bytes) + " bytes but was cached with " +
@@ -180,8 +176,14 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
     plan.placements[i].in_cache = true;
     plan.placements[i].entry = it->second.id;
     plan.placements[i].copy_sequence = it->second.copy_sequence;
-    placed[i] = true;
     ++stats_.hits;
+  };
+
+  // 1. Pin what is on the device already.
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    if (!inputs[i].cached) continue;
+    auto it = entries_.find(inputs[i].key);
+    if (it != entries_.end()) place_hit(i, it);
   }
 
   // 2. Give back what an earlier over-budget problem left beyond the budget.
@@ -190,18 +192,10 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
 
   // 3. Upload the missing cached inputs, evicting least recently used entries for room.
   for (size_t i = 0; i < inputs.size(); ++i) {
-    if (!inputs[i].cached || placed[i]) continue;
+    if (!inputs[i].cached || plan.placements[i].in_cache) continue;
     auto it = entries_.find(inputs[i].key);
     if (it != entries_.end()) {  // listed earlier by this problem and uploaded just now
-      if (it->second.bytes != inputs[i].bytes) {
-        throw std::invalid_argument("device cache: " + DescribeKey(inputs[i].key) +
-                                    " listed twice with different sizes");
-      }
-      Pin(it->first, &it->second, &flight);
-      plan.placements[i].in_cache = true;
-      plan.placements[i].entry = it->second.id;
-      plan.placements[i].copy_sequence = it->second.copy_sequence;
-      ++stats_.hits;
+      place_hit(i, it);
       continue;
     }
     while (cached_bytes_ + inputs[i].bytes > budget_bytes_ && EvictOne(&plan)) {
@@ -224,7 +218,7 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
   // 4. Per-problem inputs: packed into the slot buffer, uploaded every time.
   for (size_t i = 0; i < inputs.size(); ++i) {
     if (inputs[i].cached) continue;
-    plan.placements[i].slot_offset = AlignUp(plan.slot_bytes, kAlignment);
+    plan.placements[i].slot_offset = AlignUp(plan.slot_bytes);
     plan.slot_bytes = plan.placements[i].slot_offset + inputs[i].bytes;
     queue_upload(static_cast<int>(i));
     ++stats_.transient_uploads;

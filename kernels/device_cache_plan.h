@@ -68,8 +68,6 @@ bool SameDeviceInputs(const std::vector<DeviceInput>& a, const std::vector<Devic
 // the two problems in flight and the driver.
 size_t DeviceCacheBudget(size_t cache_size_bytes, size_t free_device_bytes);
 
-enum class CudaStreamRole : uint8_t { kCompute, kCopy };
-
 // Where input i of a plan lives on the device.
 struct DeviceInputPlacement {
   bool in_cache = false;
@@ -83,7 +81,6 @@ struct PlannedUpload {
   int input = 0;  // index into the inputs given to Plan
   size_t bytes = 0;
   size_t staging_offset = 0;  // in the slot's pinned staging buffer
-  CudaStreamRole stream = CudaStreamRole::kCopy;
   uint64_t copy_sequence = 0;
 };
 
@@ -103,11 +100,10 @@ struct UploadPlan {
   std::vector<PlannedUpload> uploads;            // in copy-stream order
   size_t slot_bytes = 0;
   size_t staging_bytes = 0;
-  // The session records event `ready_event` on the copy stream after `uploads` and the
+  // The session records the slot's upload event on the copy stream after `uploads` and the
   // problem's kernels wait for it on the compute stream. One copy stream runs in order, so
   // the event also covers every earlier copy, up to copy_sequence `ready_after_copy`:
   // the uploads of the entries this problem finds already cached included.
-  int ready_event = 0;
   uint64_t ready_after_copy = 0;
   // The problem's cached inputs did not fit the budget next to the entries the problems in
   // flight use; they were placed anyway (see DeviceCachePlanner).
@@ -177,6 +173,12 @@ class DeviceCachePlanner {
   std::map<uint64_t, Flight> in_flight_;
   DeviceCacheStats stats_;
 };
+
+// n rounded up to the device and staging alignment.
+inline size_t AlignUp(size_t n) {
+  constexpr size_t a = DeviceCachePlanner::kAlignment;
+  return (n + a - 1) / a * a;
+}
 
 }  // namespace kernels
 }  // namespace mpmvs
