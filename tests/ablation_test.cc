@@ -2,8 +2,8 @@
 // statistics (window sides and propagation pattern per iteration, stage order).
 #include <gtest/gtest.h>
 
-#include "colmap_ext/ablation.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/evaluation/ablation.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {

@@ -1,8 +1,8 @@
-#include "colmap_ext/chroma_guide.h"
+#include "colmap_ext/pipeline/chroma_guide.h"
 
 #include <gtest/gtest.h>
 
-#include "colmap_ext/error.h"
+#include "colmap_ext/util/error.h"
 
 namespace mpmvs {
 namespace {

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "colmap_ext/mat_io.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {

@@ -14,11 +14,11 @@
 #include <random>
 #include <tuple>
 
-#include "colmap_ext/dense_workspace.h"
-#include "colmap_ext/file_util.h"
-#include "colmap_ext/image_io.h"
-#include "colmap_ext/mat_io.h"
-#include "colmap_ext/sparse_model.h"
+#include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/io/image_io.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {

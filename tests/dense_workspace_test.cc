@@ -1,11 +1,11 @@
-#include "colmap_ext/dense_workspace.h"
+#include "colmap_ext/io/dense_workspace.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "colmap_ext/file_util.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"
 

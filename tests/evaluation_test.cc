@@ -7,14 +7,14 @@
 #include <filesystem>
 #include <vector>
 
-#include "colmap_ext/error.h"
-#include "colmap_ext/evaluation.h"
-#include "colmap_ext/evaluation_report.h"
-#include "colmap_ext/file_util.h"
-#include "colmap_ext/mat_io.h"
-#include "colmap_ext/ply_io.h"
-#include "colmap_ext/scene_commands.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/cli/commands.h"
+#include "colmap_ext/evaluation/evaluation.h"
+#include "colmap_ext/evaluation/evaluation_report.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/io/ply_io.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {

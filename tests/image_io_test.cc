@@ -1,4 +1,4 @@
-#include "colmap_ext/image_io.h"
+#include "colmap_ext/io/image_io.h"
 
 #include <FreeImage.h>
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <random>
 
-#include "colmap_ext/file_util.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"
 

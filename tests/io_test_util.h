@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/error.h"
-#include "colmap_ext/sparse_model.h"
+#include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/util/error.h"
 
 // Asserts that `statement` throws mpmvs::Error whose message contains `substring`.
 #define EXPECT_MPMVS_ERROR(statement, substring)                                        \

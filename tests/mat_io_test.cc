@@ -1,4 +1,4 @@
-#include "colmap_ext/mat_io.h"
+#include "colmap_ext/io/mat_io.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "colmap_ext/file_util.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"
 

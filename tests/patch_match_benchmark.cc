@@ -9,11 +9,11 @@
 #include <memory>
 #include <thread>
 
-#include "colmap_ext/colmap_runner.h"
-#include "colmap_ext/dense_workspace.h"
-#include "colmap_ext/file_util.h"
-#include "colmap_ext/mp_patch_match_stereo.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/pipeline/mp_patch_match_stereo.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
+#include "colmap_ext/util/colmap_runner.h"
+#include "colmap_ext/util/file_util.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {

@@ -9,11 +9,11 @@
 #include <map>
 #include <string>
 
-#include "colmap_ext/dense_workspace.h"
-#include "colmap_ext/error.h"
-#include "colmap_ext/mat_io.h"
-#include "colmap_ext/mp_patch_match_stereo.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/pipeline/mp_patch_match_stereo.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
+#include "colmap_ext/util/error.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {
@@ -226,7 +226,7 @@ TEST(Pipeline, ColmapStyleFilterKeepsASubsetOfPixels) {
 }  // namespace
 }  // namespace mpmvs
 
-#include "colmap_ext/evaluation.h"
+#include "colmap_ext/evaluation/evaluation.h"
 
 namespace mpmvs {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "colmap_ext/planar_prior.h"
+#include "colmap_ext/pipeline/planar_prior.h"
 
 namespace mpmvs {
 namespace {

@@ -1,4 +1,4 @@
-#include "colmap_ext/sparse_model.h"
+#include "colmap_ext/io/sparse_model.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <random>
 
-#include "colmap_ext/file_util.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"
 

@@ -7,13 +7,13 @@
 #include <map>
 #include <vector>
 
-#include "colmap_ext/error.h"
-#include "colmap_ext/file_util.h"
-#include "colmap_ext/image_io.h"
-#include "colmap_ext/mat_io.h"
-#include "colmap_ext/ply_io.h"
-#include "colmap_ext/sparse_model.h"
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/io/image_io.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/io/ply_io.h"
+#include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/file_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {

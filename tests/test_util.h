@@ -2,7 +2,7 @@
 // Shared helpers of the tests: temporary folders, locating ../shared/data and `colmap`.
 #include <string>
 
-#include "colmap_ext/synthetic_scene.h"
+#include "colmap_ext/synthetic/synthetic_scene.h"
 
 namespace mpmvs {
 namespace test {

@@ -16,9 +16,9 @@
 #include "colmap/scene/reconstruction.h"
 #include "colmap/sensor/bitmap.h"
 #include "colmap/util/version.h"
-#include "colmap_ext/error.h"
-#include "colmap_ext/file_util.h"
-#include "colmap_ext/logging.h"
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {

@@ -6,7 +6,7 @@
 // includes COLMAP headers; this header does not, so callers need no COLMAP include paths.
 #include <memory>
 
-#include "colmap_ext/workspace_io.h"
+#include "colmap_ext/io/workspace_io.h"
 
 namespace mpmvs {
 

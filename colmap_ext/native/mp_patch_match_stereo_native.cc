@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/commands.h"
-#include "colmap_ext/error.h"
-#include "colmap_ext/logging.h"
+#include "colmap_ext/cli/commands.h"
 #include "colmap_ext/native/colmap_workspace_io.h"
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 

@@ -1,0 +1,57 @@
+// `colmap-mp mp_patch_match_stereo` (and, through RunMpPatchMatchStereoCommandWithIo, the
+// native `colmap mp_patch_match_stereo`): COLMAP's patch_match_stereo options plus --MPMVS.*.
+#include <cstdio>
+#include <iostream>
+
+#include "colmap_ext/cli/commands.h"
+#include "colmap_ext/cli/option_parser.h"
+#include "colmap_ext/cli/patch_match_flags.h"
+#include "colmap_ext/io/workspace_io.h"
+#include "colmap_ext/pipeline/mp_patch_match_stereo.h"
+#include "colmap_ext/util/logging.h"
+
+namespace mpmvs {
+
+int RunMpPatchMatchStereoCommand(const std::vector<std::string>& args) {
+  MpMvsWorkspaceIo io;
+  return RunMpPatchMatchStereoCommandWithIo(args, &io, "colmap-mp");
+}
+
+int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, WorkspaceIo* io,
+                                       const std::string& program) {
+  MpPatchMatchRun run;
+  OptionParser parser;
+  parser.AddRequired("workspace_path", &run.workspace_path, "COLMAP dense workspace (image_undistorter output)");
+  parser.Add("workspace_format", &run.workspace_format, "COLMAP (PMVS is not supported)");
+  std::string pmvs_option_name = "option-all";
+  parser.Add("pmvs_option_name", &pmvs_option_name, "accepted for COLMAP compatibility (PMVS only)");
+  parser.Add("config_path", &run.config_path, "patch-match.cfg to use instead of stereo/patch-match.cfg");
+  AddPatchMatchOptions(&parser, &run.colmap_options, &run.options);
+  if (!parser.Parse(args)) {
+    std::cout << "Usage: " << program << " mp_patch_match_stereo --workspace_path DIR [options]\n\n"
+              << "Computes depth and normal maps with MP-MVS and writes them where COLMAP's\n"
+              << "patch_match_stereo does (stereo/depth_maps, stereo/normal_maps), for\n"
+              << "`colmap stereo_fusion`.\n\nOptions:\n"
+              << parser.Help();
+    return 0;
+  }
+  for (const std::string& w : parser.Warnings()) LogWarning(w);
+  const MpPatchMatchSummary s = RunMpPatchMatchStereo(run, io);
+  LogHeading("mp_patch_match_stereo finished in " + FormatDuration(s.seconds));
+  char line[512];
+  for (const StageSummary& st : s.stages) {
+    std::snprintf(line, sizeof(line), "stage %-12s %3d computed, %3d resumed, %8.1f s, %.2f Mpix*iterations/s",
+                  st.name.c_str(), st.images_computed, st.images_resumed, st.seconds,
+                  st.seconds > 0 ? st.pixel_iterations / st.seconds / 1e6 : 0.0);
+    LogInfo(line);
+  }
+  std::snprintf(line, sizeof(line),
+                "%d reference images: %d written, %d already done, %d skipped without source images, "
+                "%d skipped without depth range; backend %s",
+                s.num_references, s.num_written, s.num_already_done, s.num_skipped_no_sources,
+                s.num_skipped_no_depth_range, s.backend.empty() ? "-" : s.backend.c_str());
+  LogInfo(line);
+  return 0;
+}
+
+}  // namespace mpmvs

@@ -1,0 +1,399 @@
+#include "colmap_ext/evaluation/evaluation_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "colmap_ext/io/gt_files.h"
+#include "colmap_ext/io/image_io.h"
+#include "colmap_ext/io/mat_io.h"
+#include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/json_writer.h"
+#include "colmap_ext/visualization/visualization.h"
+
+namespace mpmvs {
+namespace {
+
+std::string Fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+std::string Percent(double share) { return Fmt("%.1f", 100.0 * share); }
+
+std::string TolName(double tolerance) { return Fmt("%g%%", 100.0 * tolerance); }
+
+std::string PadRight(std::string s, size_t width) {
+  if (s.size() < width) s.append(width - s.size(), ' ');
+  return s;
+}
+
+std::string PadLeft(const std::string& s, size_t width) {
+  return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
+}
+
+std::string Shorten(const std::string& s, size_t width) {
+  return s.size() <= width ? s : "..." + s.substr(s.size() - (width - 3));
+}
+
+// "12.3 45.6 51.2" for acc, comp, F1 at each tolerance.
+std::string ScoreCells(const DepthPixelScore& s) {
+  std::string out;
+  for (const DepthScoreAtTolerance& t : s.at) {
+    out += PadLeft(Percent(t.accuracy), 8) + PadLeft(Percent(t.completeness), 8) +
+           PadLeft(Percent(t.f1), 8);
+  }
+  return out;
+}
+
+std::string DepthRow(const std::string& name, const DepthPixelScore& s, bool has_estimate) {
+  std::string row = PadRight(Shorten(name, 22), 23) + PadLeft(std::to_string(s.num_gt), 9) +
+                    PadLeft(s.num_gt ? Percent(static_cast<double>(s.num_estimated) / s.num_gt) : "-", 7);
+  row += ScoreCells(s);
+  row += PadLeft(std::isfinite(s.median_rel_error) ? Fmt("%.2f", 100 * s.median_rel_error) : "-", 9);
+  if (!has_estimate) row += "  (no depth map)";
+  return row;
+}
+
+void DepthScoreJson(JsonWriter* j, const DepthPixelScore& s) {
+  j->BeginObject();
+  j->Field("num_gt_pixels", s.num_gt).Field("num_estimated_pixels", s.num_estimated);
+  j->Field("median_relative_error", s.median_rel_error);
+  j->Key("tolerances").BeginArray();
+  for (const DepthScoreAtTolerance& t : s.at) {
+    j->BeginObject();
+    j->Field("tolerance", t.tolerance).Field("num_good", t.num_good);
+    j->Field("accuracy", t.accuracy).Field("completeness", t.completeness).Field("f1", t.f1);
+    j->EndObject();
+  }
+  j->EndArray();
+  j->EndObject();
+}
+
+void ContextJson(JsonWriter* j, const ReportContext& context) {
+  j->Field("command", context.command);
+  j->Field("commit", context.commit.empty() ? std::string("unknown") : context.commit);
+  j->Field("protocol", "EVALUATION.md (depth: relative tolerances; cloud: ETH3D-style)");
+}
+
+FloatMap SampleOnto(const FloatMap& map, int width, int height, int channel) {
+  FloatMap out(width, height, 1);
+  if (map.Empty()) return out;
+  for (int r = 0; r < height; ++r) {
+    for (int c = 0; c < width; ++c) {
+      const int mr = std::min(map.height - 1, static_cast<int>(std::lround(static_cast<double>(r) * map.height / height)));
+      const int mc = std::min(map.width - 1, static_cast<int>(std::lround(static_cast<double>(c) * map.width / width)));
+      out.At(r, c) = map.At(mr, mc, channel);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string FormatScoreTable(const WorkspaceEvaluation& e) {
+  const DepthEvaluation& d = e.depth;
+  std::string out;
+  out += "Depth maps (" + d.input_type + ") of " + e.workspace_path + " against " + e.gt_dir +
+         ": " + std::to_string(d.images.size()) + " images with GT\n";
+  std::string header = PadRight("image", 23) + PadLeft("GT px", 9) + PadLeft("est%", 7);
+  for (double t : d.tolerances) {
+    header += PadLeft("acc@" + TolName(t), 8) + PadLeft("comp@" + TolName(t), 8) +
+              PadLeft("F1@" + TolName(t), 8);
+  }
+  header += PadLeft("med.err%", 9);
+  out += header + "\n" + std::string(header.size(), '-') + "\n";
+  for (const DepthImageScore& s : d.images) out += DepthRow(s.name, s.all, s.has_estimate) + "\n";
+  out += std::string(header.size(), '-') + "\n";
+  out += DepthRow("all pixels (pooled)", d.pooled, true) + "\n";
+  if (d.has_masks) {
+    out += DepthRow("untextured (pooled)", d.pooled_untextured, true) + "\n";
+    for (const DepthImageScore& s : d.images) {
+      if (s.has_mask) out += DepthRow("  untex. " + s.name, s.untextured, s.has_estimate) + "\n";
+    }
+  }
+  out += "(percentages; acc = good / estimated GT pixels, comp = good / GT pixels, good = "
+         "relative depth error below the tolerance)\n";
+  if (e.has_cloud) {
+    const PointCloudEvaluation& c = e.cloud;
+    out += "\nPoint cloud " + c.fused_path + ": " + std::to_string(c.num_points) + " points (" +
+           std::to_string(c.num_observed) + " over observed GT); GT cloud " +
+           std::to_string(c.num_gt_points) + " points, median GT depth " +
+           Fmt("%.3f", c.median_gt_depth) + "\n";
+    for (const CloudScoreAtTolerance& t : c.at) {
+      out += "  tolerance " + PadLeft(TolName(t.relative_tolerance), 5) + " (" +
+             Fmt("%.4g", t.tolerance) + "): accuracy " + PadLeft(Percent(t.accuracy), 5) +
+             "%  completeness " + PadLeft(Percent(t.completeness), 5) + "%  F1 " +
+             PadLeft(Percent(t.f1), 5) + "%\n";
+    }
+  }
+  return out;
+}
+
+void PrintScoreTable(const WorkspaceEvaluation& evaluation) {
+  std::cout << FormatScoreTable(evaluation) << std::flush;
+}
+
+std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals) {
+  if (evals.empty()) return "";
+  const size_t name_w = 30;
+  size_t col_w = 10;
+  for (const WorkspaceEvaluation& e : evals) col_w = std::max(col_w, std::min<size_t>(24, e.label.size() + 2));
+  std::string out = PadRight("scores in % (" + evals[0].depth.input_type + ")", name_w);
+  for (const WorkspaceEvaluation& e : evals) out += PadLeft(Shorten(e.label, col_w - 2), col_w);
+  out += "\n" + std::string(name_w + col_w * evals.size(), '-') + "\n";
+  auto row = [&](const std::string& name, auto value_of) {
+    out += PadRight(name, name_w);
+    for (const WorkspaceEvaluation& e : evals) out += PadLeft(value_of(e), col_w);
+    out += "\n";
+  };
+  const std::vector<double>& tols = evals[0].depth.tolerances;
+  for (size_t k = 0; k < tols.size(); ++k) {
+    const std::string t = TolName(tols[k]);
+    row("depth F1@" + t, [&](const WorkspaceEvaluation& e) { return k < e.depth.pooled.at.size() ? Percent(e.depth.pooled.at[k].f1) : "-"; });
+    row("depth accuracy@" + t, [&](const WorkspaceEvaluation& e) { return k < e.depth.pooled.at.size() ? Percent(e.depth.pooled.at[k].accuracy) : "-"; });
+    row("depth completeness@" + t, [&](const WorkspaceEvaluation& e) { return k < e.depth.pooled.at.size() ? Percent(e.depth.pooled.at[k].completeness) : "-"; });
+  }
+  const bool any_masks = std::any_of(evals.begin(), evals.end(), [](const WorkspaceEvaluation& e) { return e.depth.has_masks; });
+  if (any_masks) {
+    for (size_t k = 0; k < tols.size(); ++k) {
+      row("untextured F1@" + TolName(tols[k]), [&](const WorkspaceEvaluation& e) {
+        return e.depth.has_masks && k < e.depth.pooled_untextured.at.size() ? Percent(e.depth.pooled_untextured.at[k].f1) : "-";
+      });
+    }
+  }
+  row("median rel. depth error", [](const WorkspaceEvaluation& e) {
+    return std::isfinite(e.depth.pooled.median_rel_error) ? Fmt("%.2f", 100 * e.depth.pooled.median_rel_error) : "-";
+  });
+  const bool any_cloud = std::any_of(evals.begin(), evals.end(), [](const WorkspaceEvaluation& e) { return e.has_cloud; });
+  if (any_cloud) {
+    const WorkspaceEvaluation* first = nullptr;
+    for (const WorkspaceEvaluation& e : evals) {
+      if (e.has_cloud && !first) first = &e;
+    }
+    for (size_t k = 0; k < first->cloud.at.size(); ++k) {
+      const std::string t = TolName(first->cloud.at[k].relative_tolerance);
+      row("cloud F1@" + t, [&](const WorkspaceEvaluation& e) { return e.has_cloud && k < e.cloud.at.size() ? Percent(e.cloud.at[k].f1) : "-"; });
+      row("cloud accuracy@" + t, [&](const WorkspaceEvaluation& e) { return e.has_cloud && k < e.cloud.at.size() ? Percent(e.cloud.at[k].accuracy) : "-"; });
+      row("cloud completeness@" + t, [&](const WorkspaceEvaluation& e) { return e.has_cloud && k < e.cloud.at.size() ? Percent(e.cloud.at[k].completeness) : "-"; });
+    }
+    row("fused points", [](const WorkspaceEvaluation& e) { return e.has_cloud ? std::to_string(e.cloud.num_points) : "-"; });
+  }
+  if (!tols.empty()) {
+    out += "per image F1@" + TolName(tols[0]) + ":\n";
+    for (size_t i = 0; i < evals[0].depth.images.size(); ++i) {
+      const std::string& name = evals[0].depth.images[i].name;
+      row("  " + Shorten(name, name_w - 3), [&](const WorkspaceEvaluation& e) -> std::string {
+        for (const DepthImageScore& s : e.depth.images) {
+          if (s.name == name) return s.has_estimate ? Percent(s.all.at[0].f1) : "missing";
+        }
+        return "-";
+      });
+    }
+  }
+  return out;
+}
+
+std::string FormatAgreementTable(const std::vector<std::string>& labels,
+                                 const std::vector<PairAgreement>& pairs, double tolerance) {
+  std::string out = "Agreement without GT: share (%) of pixels estimated by both whose depths "
+                    "agree within " + TolName(tolerance) + " (both% = pixels estimated by both)\n";
+  const size_t name_w = 24, col_w = 22;
+  out += PadRight("image", name_w);
+  for (const PairAgreement& p : pairs) {
+    out += PadLeft(Shorten(labels[p.a], 9) + " vs " + Shorten(labels[p.b], 9), col_w);
+  }
+  out += "\n" + std::string(name_w + col_w * pairs.size(), '-') + "\n";
+  auto cell = [](const AgreementCounts& c, bool present) -> std::string {
+    if (!present) return "missing";
+    return Percent(c.AgreeShare()) + " (both " +
+           (c.num_pixels ? Percent(static_cast<double>(c.num_both) / c.num_pixels) : std::string("-")) + ")";
+  };
+  if (!pairs.empty()) {
+    for (size_t i = 0; i < pairs[0].images.size(); ++i) {
+      out += PadRight(Shorten(pairs[0].images[i].name, name_w - 1), name_w);
+      for (const PairAgreement& p : pairs) {
+        const ImageAgreement& ia = p.images[i];
+        out += PadLeft(cell(ia.counts, ia.present_a && ia.present_b), col_w);
+      }
+      out += "\n";
+    }
+  }
+  out += std::string(name_w + col_w * pairs.size(), '-') + "\n" + PadRight("all (pooled)", name_w);
+  for (const PairAgreement& p : pairs) out += PadLeft(cell(p.pooled, true), col_w);
+  return out + "\n";
+}
+
+std::string EvaluationJson(const std::vector<WorkspaceEvaluation>& evaluations,
+                           const ReportContext& context) {
+  JsonWriter j;
+  j.BeginObject();
+  ContextJson(&j, context);
+  j.Key("workspaces").BeginArray();
+  for (const WorkspaceEvaluation& e : evaluations) {
+    j.BeginObject();
+    j.Field("label", e.label).Field("workspace_path", e.workspace_path).Field("gt_dir", e.gt_dir);
+    j.Key("depth").BeginObject();
+    j.Field("input_type", e.depth.input_type);
+    j.NumberArray("tolerances", e.depth.tolerances);
+    j.Key("pooled");
+    DepthScoreJson(&j, e.depth.pooled);
+    if (e.depth.has_masks) {
+      j.Key("pooled_untextured");
+      DepthScoreJson(&j, e.depth.pooled_untextured);
+    }
+    j.Key("images").BeginArray();
+    for (const DepthImageScore& s : e.depth.images) {
+      j.BeginObject();
+      j.Field("name", s.name).Field("has_estimate", s.has_estimate);
+      j.Key("all");
+      DepthScoreJson(&j, s.all);
+      if (s.has_mask) {
+        j.Key("untextured");
+        DepthScoreJson(&j, s.untextured);
+      }
+      j.EndObject();
+    }
+    j.EndArray();
+    j.EndObject();
+    if (e.has_cloud) {
+      const PointCloudEvaluation& c = e.cloud;
+      j.Key("point_cloud").BeginObject();
+      j.Field("fused_path", c.fused_path).Field("num_points", c.num_points);
+      j.Field("num_observed_points", c.num_observed).Field("num_gt_points", c.num_gt_points);
+      j.Field("median_gt_depth", c.median_gt_depth);
+      j.Key("tolerances").BeginArray();
+      for (const CloudScoreAtTolerance& t : c.at) {
+        j.BeginObject();
+        j.Field("relative_tolerance", t.relative_tolerance).Field("tolerance", t.tolerance);
+        j.Field("accuracy", t.accuracy).Field("completeness", t.completeness).Field("f1", t.f1);
+        j.EndObject();
+      }
+      j.EndArray();
+      j.EndObject();
+    }
+    j.EndObject();
+  }
+  j.EndArray();
+  j.EndObject();
+  return j.str();
+}
+
+std::string AgreementJson(const std::vector<std::string>& labels,
+                          const std::vector<PairAgreement>& pairs, double tolerance,
+                          const std::string& input_type, const ReportContext& context) {
+  JsonWriter j;
+  j.BeginObject();
+  ContextJson(&j, context);
+  j.Field("input_type", input_type).Field("tolerance", tolerance);
+  j.Key("labels").BeginArray();
+  for (const std::string& l : labels) j.String(l);
+  j.EndArray();
+  auto counts = [&](const AgreementCounts& c) {
+    j.BeginObject();
+    j.Field("num_pixels", c.num_pixels).Field("num_a", c.num_a).Field("num_b", c.num_b);
+    j.Field("num_both", c.num_both).Field("num_agree", c.num_agree);
+    j.Field("agree_share", c.AgreeShare());
+    j.EndObject();
+  };
+  j.Key("pairs").BeginArray();
+  for (const PairAgreement& p : pairs) {
+    j.BeginObject();
+    j.Field("a", labels[p.a]).Field("b", labels[p.b]);
+    j.Key("pooled");
+    counts(p.pooled);
+    j.Key("images").BeginArray();
+    for (const ImageAgreement& ia : p.images) {
+      j.BeginObject();
+      j.Field("name", ia.name).Field("present_a", ia.present_a).Field("present_b", ia.present_b);
+      j.Key("counts");
+      counts(ia.counts);
+      j.EndObject();
+    }
+    j.EndArray();
+    j.EndObject();
+  }
+  j.EndArray();
+  j.EndObject();
+  return j.str();
+}
+
+void WriteJsonFile(const std::string& path, const std::string& json) {
+  WriteFileAtomically(path, [&](std::ostream& out) { out << json; });
+}
+
+std::vector<std::string> WriteEvaluationPictures(const WorkspaceEvaluation& evaluation,
+                                                 const std::string& out_dir) {
+  CreateDirectories(out_dir);
+  const SparseModel model = ReadSparseModel(JoinPaths(evaluation.workspace_path, "sparse"));
+  const std::vector<GtView> gt = LoadGtViews(model, evaluation.gt_dir);
+  const std::string& type = evaluation.depth.input_type;
+  const double max_error = 2.0 * *std::max_element(evaluation.depth.tolerances.begin(),
+                                                   evaluation.depth.tolerances.end());
+  std::vector<std::string> written;
+  for (const GtView& v : gt) {
+    const int W = v.depth.width, H = v.depth.height;
+    FloatMap gt_map(W, H, 1);
+    gt_map.data = v.depth.data;
+    double dmin = 0, dmax = 1;
+    RobustRange(gt_map.data, 0.01, 0.99, &dmin, &dmax);
+
+    const std::string depth_path = JoinPaths(evaluation.workspace_path,
+                                             "stereo/depth_maps/" + v.name + "." + type + ".bin");
+    const std::string normal_path = JoinPaths(evaluation.workspace_path,
+                                              "stereo/normal_maps/" + v.name + "." + type + ".bin");
+    const bool has_estimate = FileExists(depth_path);
+    const FloatMap estimate = has_estimate ? ReadFloatMap(depth_path, 1) : FloatMap();
+    const FloatMap est_on_gt = SampleOnto(estimate, W, H, 0);
+
+    std::vector<RgbImage> tiles;
+    const std::string image_path = JoinPaths(evaluation.workspace_path, "images/" + v.name);
+    if (FileExists(image_path)) {
+      RgbImage image = ReadRgbImage(image_path);
+      tiles.push_back(TitledPicture(image, "input " + v.name));
+    }
+    tiles.push_back(DepthPicture(gt_map, dmin, dmax, "GT depth"));
+    tiles.push_back(DepthPicture(est_on_gt, dmin, dmax,
+                                 has_estimate ? "estimated depth (" + type + ")" : "no depth map"));
+    std::vector<float> error(static_cast<size_t>(W) * H, std::nanf(""));
+    for (size_t i = 0; i < error.size(); ++i) {
+      const float g = v.depth.data[i];
+      if (!(std::isfinite(g) && g > 0)) continue;
+      const float z = est_on_gt.data[i];
+      error[i] = (std::isfinite(z) && z > 0) ? std::abs(z - g) / g : -std::numeric_limits<float>::infinity();
+    }
+    ScalarPictureOptions eo;
+    eo.value_min = 0;
+    eo.value_max = max_error;
+    eo.title = "rel. depth error (grey: none)";
+    eo.unit = "%";
+    eo.label_factor = 100;
+    tiles.push_back(ScalarPicture(error, W, H, eo));
+    if (FileExists(normal_path)) {
+      const FloatMap normal = ReadFloatMap(normal_path, 3);
+      FloatMap normal_on_gt(W, H, 3);
+      for (int ch = 0; ch < 3; ++ch) {
+        const FloatMap plane = SampleOnto(normal, W, H, ch);
+        std::copy(plane.data.begin(), plane.data.end(), normal_on_gt.data.begin() + static_cast<size_t>(ch) * W * H);
+      }
+      tiles.push_back(NormalPicture(normal_on_gt, "estimated normals"));
+    }
+    if (!v.untextured.empty()) {
+      RgbImage mask = MakeRgbImage(W, H, RgbColor{0, 0, 0});
+      for (size_t i = 0; i < v.untextured.size(); ++i) {
+        const uint8_t m = v.untextured[i] ? 255 : 0;
+        mask.data[3 * i] = mask.data[3 * i + 1] = mask.data[3 * i + 2] = m;
+      }
+      tiles.push_back(TitledPicture(mask, "untextured (white)"));
+    }
+    const std::string path = JoinPaths(out_dir, ImageStem(v.name) + "_eval.png");
+    WriteRgbPng(path, TilePictures(tiles, 3));
+    written.push_back(path);
+  }
+  return written;
+}
+
+}  // namespace mpmvs

@@ -1,0 +1,63 @@
+#pragma once
+// The mp_patch_match_stereo controller: loads a COLMAP dense workspace, runs the stage plan
+// (stage_plan.h) for every reference image of patch-match.cfg on the chosen backend, and
+// writes COLMAP depth/normal maps that `colmap stereo_fusion` reads unchanged. Reading the
+// workspace and writing the maps go through a WorkspaceIo (workspace_io.h), so the same
+// stage loop serves `colmap-mp` (mp-mvs's own I/O) and the native `colmap` command
+// (COLMAP's mvs::Workspace and writers, colmap_ext/native).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/pipeline/patch_match_options.h"
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+
+class WorkspaceIo;
+
+struct StageSummary {
+  std::string name;
+  int images_computed = 0;
+  int images_resumed = 0;  // results already on disk
+  double seconds = 0;
+  uint64_t ncc_evaluations = 0;
+  uint64_t pixel_iterations = 0;  // pixels x iterations computed
+  // Iterations of the first image computed in this stage (window sizes, pattern, tau).
+  std::vector<kernels::IterationStats> iterations;
+};
+
+struct MpPatchMatchSummary {
+  int num_references = 0;
+  int num_written = 0;           // references whose final maps were written in this run
+  int num_already_done = 0;      // final maps existed (rerun)
+  int num_skipped_no_sources = 0;
+  int num_skipped_no_depth_range = 0;
+  std::string backend;
+  double seconds = 0;
+  std::vector<StageSummary> stages;
+};
+
+struct MpPatchMatchRun {
+  std::string workspace_path;
+  std::string workspace_format = "COLMAP";
+  std::string config_path;  // "" = workspace/stereo/patch-match.cfg
+  PatchMatchStereoOptions colmap_options;
+  MpMvsOptions options;
+  // Tests: the CPU backend assembles the next reference image before running the current
+  // one, as the CUDA session does while its kernels run, so that this controller path runs
+  // on machines without a GPU. Results and files are the same either way.
+  bool cpu_look_ahead = false;
+};
+
+// The kernels' float camera of a workspace view (same size, K, R, t).
+kernels::Camera ToKernelCamera(const DenseView& view);
+
+// Throws Error with a clear message on bad input; never leaves partial map files.
+// Uses mp-mvs's own I/O (MpMvsWorkspaceIo).
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run);
+// Same, reading the workspace and writing the maps through io (not owned, not null).
+MpPatchMatchSummary RunMpPatchMatchStereo(const MpPatchMatchRun& run, WorkspaceIo* io);
+
+}  // namespace mpmvs

@@ -1,0 +1,62 @@
+#pragma once
+// Options of mp_patch_match_stereo: COLMAP's --PatchMatchStereo.* (those mp-mvs honours)
+// and the method's own --MPMVS.* (defaults: ALGORITHM.md §0).
+#include <cstdint>
+#include <string>
+
+namespace mpmvs {
+
+// COLMAP's PatchMatchStereo options that keep their COLMAP meaning.
+struct PatchMatchStereoOptions {
+  int max_image_size = -1;      // down-scale so max(w, h) <= this (-1: off)
+  std::string gpu_index = "-1";  // -1: first usable GPU, else the CPU backend
+  double depth_min = -1;        // -1: from the sparse points
+  double depth_max = -1;
+  bool geom_consistency = true;  // run the geometric stages and write .geometric.bin
+  bool filter = false;           // COLMAP-style output filter (off: mp-mvs default, §0)
+  double filter_min_ncc = 0.1;
+  double filter_min_triangulation_angle = 3.0;
+  int filter_min_num_consistent = 2;
+  double filter_geom_consistency_max_cost = 1.0;
+  double cache_size = 32;  // GB for cached images and maps
+  bool write_consistency_graph = false;
+  bool allow_missing_files = false;
+  int num_threads = -1;  // CPU backend threads (-1: all cores)
+  double min_triangulation_angle = 1.0;  // __auto__ source selection (degrees)
+
+  bool Check(std::string* error) const;
+};
+
+enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
+
+// MP-MVS method options (--MPMVS.*).
+struct MpMvsOptions {
+  int max_window_scale = 2;          // S_max: windows 2^S*10+1 for S = S_max..0 (mPM)
+  int iterations_per_scale = 3;      // photometric iterations per window scale
+  bool distant_sampling = true;      // rs: MP-MVS distant checkerboard; false: ACMH pattern
+  std::string planar_prior = "geometric";  // none | photometric (ACMP, pp) | geometric (gp)
+  int geom_iterations = 2;           // per geometric pass
+  int prior_iterations = 3;
+  double geom_weight = 0.2;          // lambda
+  double geom_max_error = 2.0;       // clamp of the reprojection error (px)
+  double prior_max_photo_cost = 0.2;  // gp vertex: m_p <
+  double prior_max_geom_error = 1.0;  // gp vertex: m_g < (px)
+  double prior_max_cost_acmp = 0.1;   // pp vertex: cost <
+  int prior_cell_size = 5;
+  int prior_points_per_cell = 3;      // gp; pp uses 1 (ACMP)
+  double prior_max_depth_jump = 0.1;  // triangle rejected if vertex depths differ more (rel.)
+  double prior_max_edge = 0.05;       // triangle rejected if an edge exceeds this x diagonal
+  double refinement_rho = 0.02;
+  // Bilateral weights: grey difference + this x the smoothed chroma difference of the
+  // reference (kernels/DESIGN.md item 13). 0: grey only, as ACMH / the MP-MVS code.
+  double chroma_weight = 8;
+  int max_source_images = 20;
+  int seed = 1;
+  bool overwrite = false;             // recompute outputs that already exist
+  bool write_pictures = true;         // depth/normal PNGs in stereo/mpmvs/pictures
+
+  PlanarPriorMode PriorMode() const;
+  bool Check(std::string* error) const;
+};
+
+}  // namespace mpmvs

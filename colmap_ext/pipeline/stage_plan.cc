@@ -1,0 +1,79 @@
+#include "colmap_ext/pipeline/stage_plan.h"
+
+namespace mpmvs {
+
+std::string StageKindName(StageKind kind) {
+  switch (kind) {
+    case StageKind::kPhotometric: return "photometric";
+    case StageKind::kGeometric: return "geometric";
+    case StageKind::kPlanarPrior: return "planar prior";
+  }
+  return "?";
+}
+
+PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
+                              const MpMvsOptions& options) {
+  kernels::PatchMatchSchedule base;
+  base.pattern = options.distant_sampling ? kernels::PatternKind::kDistant : kernels::PatternKind::kAcmh;
+  base.geom_lambda = static_cast<float>(options.geom_weight);
+  base.geom_max_error = static_cast<float>(options.geom_max_error);
+  base.refinement_rho = static_cast<float>(options.refinement_rho);
+  base.seed = static_cast<uint64_t>(options.seed);
+  base.num_threads = colmap_options.num_threads;
+
+  auto single_scale = [&](int iterations) {
+    kernels::PatchMatchSchedule s = base;
+    for (int t = 0; t < iterations; ++t) s.iterations.push_back({0, t});
+    return s;
+  };
+
+  PipelinePlan plan;
+  StagePlan photometric;
+  photometric.name = "photometric";
+  photometric.kind = StageKind::kPhotometric;
+  photometric.schedule = base;
+  // mPM: largest window first, tau restarting at every scale.
+  for (int s = options.max_window_scale; s >= 0; --s) {
+    for (int t = 0; t < options.iterations_per_scale; ++t) photometric.schedule.iterations.push_back({s, t});
+  }
+  plan.stages.push_back(photometric);
+
+  auto add_prior = [&](bool geometric_selection) {
+    StagePlan prior;
+    prior.name = "prior";
+    prior.kind = StageKind::kPlanarPrior;
+    prior.input = static_cast<int>(plan.stages.size()) - 1;
+    prior.prior_geometric_selection = geometric_selection;
+    prior.schedule = single_scale(options.prior_iterations);
+    prior.schedule.use_prior = true;
+    // After a geometric pass (gp) the prior run keeps the geometric term: the paper does not
+    // say, the reference code drops it, and keeping it scores better (colmap_ext/DESIGN.md).
+    prior.schedule.geometric = geometric_selection;
+    plan.stages.push_back(prior);
+  };
+  auto add_geometric = [&](const std::string& name) {
+    StagePlan geo;
+    geo.name = name;
+    geo.kind = StageKind::kGeometric;
+    geo.input = static_cast<int>(plan.stages.size()) - 1;
+    geo.schedule = single_scale(options.geom_iterations);
+    geo.schedule.geometric = true;
+    plan.stages.push_back(geo);
+  };
+
+  const PlanarPriorMode prior = options.PriorMode();
+  if (prior == PlanarPriorMode::kPhotometric) add_prior(false);
+  plan.photometric_output = static_cast<int>(plan.stages.size()) - 1;
+  if (colmap_options.geom_consistency) {
+    add_geometric("geometric1");
+    if (prior == PlanarPriorMode::kGeometric) add_prior(true);
+    add_geometric("geometric2");
+    plan.geometric_output = static_cast<int>(plan.stages.size()) - 1;
+  }
+  for (size_t i = 0; i < plan.stages.size(); ++i) {
+    plan.stages[i].schedule.stage_id = static_cast<uint32_t>(i);
+  }
+  return plan;
+}
+
+}  // namespace mpmvs
