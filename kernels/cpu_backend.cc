@@ -9,6 +9,7 @@
 
 #include "kernels/median_filter.h"
 #include "kernels/ncc_simd.h"
+#include "kernels/pass_loop.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
@@ -54,6 +55,68 @@ uint64_t ParallelRows(int num_rows, int num_threads, const Fn& fn) {
   return sum;
 }
 
+// RunPassLoop's passes on the host cores: rows of the image handed out to threads.
+class CpuPasses {
+ public:
+  CpuPasses(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
+            PatchMatchResult* result, const ProgressCallback& progress)
+      : problem_(problem),
+        schedule_(schedule),
+        result_(result),
+        progress_(progress),
+        threads_(ResolveThreads(schedule.num_threads)),
+        width_(problem.ref_camera.width),
+        height_(problem.ref_camera.height) {
+    ResetResult(width_, height_, result);
+    state_.plane = result->plane.data();
+    state_.cost = result->cost.data();
+    state_.photo_cost = result->photo_cost.data();
+    state_.geo_error = result->geo_error.data();
+    state_.view_mask = result->view_mask.data();
+  }
+
+  void Initialize(const PassParams& params) {
+    result_->init_ncc_evaluations = ParallelRows(height_, threads_, [&](int v, uint32_t* count) {
+      for (int u = 0; u < width_; ++u) {
+        InitializePixel<CpuNcc>(params, state_, problem_.init_plane, problem_.init_cost, u, v,
+                                count);
+      }
+    });
+  }
+
+  void BeginIteration(int) {
+    start_ = std::chrono::steady_clock::now();
+    evaluations_ = 0;
+  }
+
+  void Checkerboard(const PassParams& params, int) {
+    const int color = params.color;
+    evaluations_ += ParallelRows(height_, threads_, [&](int v, uint32_t* count) {
+      for (int u = CheckerboardRowBegin(v, color); u < width_; u += 2) {
+        UpdatePixel<CpuNcc>(params, state_, u, v, count);
+      }
+    });
+  }
+
+  void EndIteration(int iteration) {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    result_->iterations.push_back(MakeIterationStats(schedule_, iteration, evaluations_, seconds));
+    if (progress_) progress_(iteration + 1, static_cast<int>(schedule_.iterations.size()));
+  }
+
+ private:
+  const PatchMatchProblem& problem_;
+  const PatchMatchSchedule& schedule_;
+  PatchMatchResult* result_;
+  const ProgressCallback& progress_;
+  const int threads_;
+  const int width_, height_;
+  PixelState state_;
+  std::chrono::steady_clock::time_point start_;
+  uint64_t evaluations_ = 0;
+};
+
 }  // namespace
 
 void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
@@ -67,41 +130,9 @@ void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule
     if (MakeQuadImage(sources[s].image, &quads[s])) sources[s].image.quads = quads[s].data();
   }
 #endif
-  PassParams params = MakePassParams(problem, schedule, sources.data());
-  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
-  ResetResult(W, H, result);
-  PixelState state;
-  state.plane = result->plane.data();
-  state.cost = result->cost.data();
-  state.photo_cost = result->photo_cost.data();
-  state.geo_error = result->geo_error.data();
-  state.view_mask = result->view_mask.data();
-  const int threads = ResolveThreads(schedule.num_threads);
-
-  SetInitPass(schedule, &params);
-  result->init_ncc_evaluations = ParallelRows(H, threads, [&](int v, uint32_t* count) {
-    for (int u = 0; u < W; ++u) {
-      InitializePixel<CpuNcc>(params, state, problem.init_plane, problem.init_cost, u, v, count);
-    }
-  });
-
-  const int total = static_cast<int>(schedule.iterations.size());
-  for (int it = 0; it < total; ++it) {
-    const auto start = std::chrono::steady_clock::now();
-    uint64_t evaluations = 0;
-    for (int color = 0; color < 2; ++color) {
-      SetCheckerboardPass(schedule, it, color, &params);
-      evaluations += ParallelRows(H, threads, [&](int v, uint32_t* count) {
-        for (int u = CheckerboardRowBegin(v, color); u < W; u += 2) {
-          UpdatePixel<CpuNcc>(params, state, u, v, count);
-        }
-      });
-    }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    result->iterations.push_back(MakeIterationStats(schedule, it, evaluations, seconds));
-    if (progress) progress(it + 1, total);
-  }
+  const PassParams params = MakePassParams(problem, schedule, sources.data());
+  CpuPasses passes(problem, schedule, result, progress);
+  RunPassLoop(schedule, params, &passes);
 }
 
 float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float H[9], int u, int v,

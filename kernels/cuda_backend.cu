@@ -1,7 +1,7 @@
 // CUDA backend: the same per-pixel functions as the CPU backend (patch_match_pixel.h with
-// ScalarNcc), launched one thread per pixel. The host side here only queues the passes,
-// set up with the shared functions of patch_match.h, with threads mapped to pixels by
-// launch_layout.h; memory, uploads and streams are the CUDA session's (cuda_session.cu).
+// ScalarNcc), launched one thread per pixel. The host side here only queues the passes of
+// cuda_passes.h (the shared pass loop, thread bodies and launch layouts); memory, uploads
+// and streams are the CUDA session's (cuda_session.cu).
 // See DESIGN_CUDA.md.
 #include <cuda_runtime.h>
 
@@ -10,9 +10,8 @@
 #include <type_traits>
 
 #include "kernels/cuda_launch.cuh"
+#include "kernels/cuda_passes.h"
 #include "kernels/cuda_util.cuh"
-#include "kernels/launch_layout.h"
-#include "kernels/patch_match.h"
 
 namespace mpmvs {
 namespace kernels {
@@ -51,29 +50,64 @@ __device__ __forceinline__ void AccumulateCount(uint32_t count, unsigned long lo
 __global__ void InitializeKernel(const PassParams params, const PixelState state,
                                  const float* init_plane, const float* init_cost,
                                  unsigned long long* ncc_counter) {
-  int u, v;
   uint32_t count = 0;
-  if (ImageThreadPixel(params.ref_camera.width, params.ref_camera.height, ToDim2(blockIdx),
-                       ToDim2(blockDim), ToDim2(threadIdx), &u, &v)) {
-    InitializePixel<ScalarNcc>(params, state, init_plane, init_cost, u, v, &count);
-  }
+  InitializeThread(params, state, init_plane, init_cost, ToDim2(blockIdx), ToDim2(blockDim),
+                   ToDim2(threadIdx), &count);
   AccumulateCount(count, ncc_counter);  // all threads: the reduction needs whole warps
 }
 
 __global__ void CheckerboardKernel(const PassParams params, const PixelState state,
                                    unsigned long long* ncc_counter) {
-  int u, v;
   uint32_t count = 0;
-  if (CheckerboardThreadPixel(params.ref_camera.width, params.ref_camera.height, params.color,
-                              ToDim2(blockIdx), ToDim2(blockDim), ToDim2(threadIdx), &u, &v)) {
-    UpdatePixel<ScalarNcc>(params, state, u, v, &count);
-  }
+  CheckerboardThread(params, state, ToDim2(blockIdx), ToDim2(blockDim), ToDim2(threadIdx),
+                     &count);
   AccumulateCount(count, ncc_counter);
 }
 
 dim3 ToDim3(const Dim2& d) {
   return dim3(static_cast<unsigned>(d.x), static_cast<unsigned>(d.y), 1u);
 }
+
+// LaunchPasses's launches on `stream`: the kernels, and events[mark] recorded at every
+// mark. With a progress callback the host waits for each iteration; otherwise the whole run
+// is queued at once.
+struct DeviceLaunch {
+  const DevicePassBuffers& buffers;
+  cudaStream_t stream;
+  const cudaEvent_t* events;
+  int total;
+  const std::function<void()>& before_first_wait;
+  const ProgressCallback& progress;
+  bool waited = false;
+
+  void Run(PassKernel kernel, const LaunchLayout& layout, const PassParams& params,
+           int counter) {
+    unsigned long long* ncc_counter = buffers.counters + counter;
+    if (kernel == PassKernel::kInitialize) {
+      InitializeKernel<<<ToDim3(layout.grid), ToDim3(layout.block), 0, stream>>>(
+          params, buffers.state, buffers.init_plane, buffers.init_cost, ncc_counter);
+    } else {
+      CheckerboardKernel<<<ToDim3(layout.grid), ToDim3(layout.block), 0, stream>>>(
+          params, buffers.state, ncc_counter);
+    }
+    MPMVS_CUDA_CHECK(cudaGetLastError());
+  }
+
+  void Queued(int mark) {
+    MPMVS_CUDA_CHECK(cudaEventRecord(events[mark], stream));
+    if (mark == 0 || !progress) return;
+    FirstWait();
+    MPMVS_CUDA_CHECK(cudaEventSynchronize(events[mark]));
+    progress(mark, total);
+  }
+
+  // before_first_wait, once, before the host first waits for the device.
+  void FirstWait() {
+    if (waited) return;
+    waited = true;
+    if (before_first_wait) before_first_wait();
+  }
+};
 
 }  // namespace
 
@@ -109,51 +143,17 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   return true;
 }
 
-void EnqueuePatchMatchPasses(const PatchMatchSchedule& schedule, PassParams params,
+void EnqueuePatchMatchPasses(const PatchMatchSchedule& schedule, const PassParams& params,
                              const DevicePassBuffers& buffers, cudaStream_t stream,
                              const cudaEvent_t* events,
                              const std::function<void()>& before_first_wait,
                              const ProgressCallback& progress) {
-  const int W = params.ref_camera.width, H = params.ref_camera.height;
   const int total = static_cast<int>(schedule.iterations.size());
-  bool waited = false;
-  auto first_wait = [&] {
-    if (waited) return;
-    waited = true;
-    if (before_first_wait) before_first_wait();
-  };
-  // NCC counters: [0] initialisation, [1 + it] iteration it.
   MPMVS_CUDA_CHECK(cudaMemsetAsync(buffers.counters, 0,
-                                   (1 + total) * sizeof(unsigned long long), stream));
-
-  const bool empty = MakeStateLayout(W, H).num_pixels == 0;
-  const LaunchLayout init_layout = ImageLaunchLayout(W, H);
-  const LaunchLayout pass_layout = CheckerboardLaunchLayout(W, H);
-
-  SetInitPass(schedule, &params);
-  if (!empty) {
-    InitializeKernel<<<ToDim3(init_layout.grid), ToDim3(init_layout.block), 0, stream>>>(
-        params, buffers.state, buffers.init_plane, buffers.init_cost, buffers.counters);
-    MPMVS_CUDA_CHECK(cudaGetLastError());
-  }
-  MPMVS_CUDA_CHECK(cudaEventRecord(events[0], stream));
-  for (int it = 0; it < total; ++it) {
-    for (int color = 0; color < 2; ++color) {
-      SetCheckerboardPass(schedule, it, color, &params);
-      if (empty) continue;
-      CheckerboardKernel<<<ToDim3(pass_layout.grid), ToDim3(pass_layout.block), 0, stream>>>(
-          params, buffers.state, buffers.counters + 1 + it);
-      MPMVS_CUDA_CHECK(cudaGetLastError());
-    }
-    MPMVS_CUDA_CHECK(cudaEventRecord(events[it + 1], stream));
-    if (progress) {
-      // Only wait per iteration when someone is watching; otherwise the whole run is queued.
-      first_wait();
-      MPMVS_CUDA_CHECK(cudaEventSynchronize(events[it + 1]));
-      progress(it + 1, total);
-    }
-  }
-  first_wait();
+                                   NumNccCounters(total) * sizeof(unsigned long long), stream));
+  DeviceLaunch launch{buffers, stream, events, total, before_first_wait, progress};
+  LaunchPasses(schedule, params, &launch);
+  launch.FirstWait();
 }
 
 }  // namespace kernels

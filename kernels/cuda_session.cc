@@ -1,4 +1,5 @@
-// Host parts of cuda_session.h, in every build; the session itself is cuda_session.cu.
+// Host parts of cuda_session.h, in every build; the session itself is cuda_session.cu
+// (cuda_stubs.cc in builds without CUDA).
 #include "kernels/cuda_session.h"
 
 #include <stdexcept>
@@ -13,24 +14,6 @@ void CudaSessionOptions::Check() const {
                                 std::to_string(gpu_index));
   }
 }
-
-// Builds without CUDA (no nvcc, or -DMPMVS_ENABLE_CUDA=OFF); otherwise cuda_session.cu.
-#if !defined(MPMVS_WITH_CUDA)
-class CudaSession::Impl {};
-
-CudaSession::CudaSession(const CudaSessionOptions&) {
-  throw std::runtime_error("this build of mp-mvs has no CUDA backend");
-}
-CudaSession::~CudaSession() = default;
-
-void CudaSession::Run(const PatchMatchProblem&, const PatchMatchSchedule&, PatchMatchResult*,
-                      const NextProblemCallback&, const ProgressCallback&) {
-  throw std::runtime_error("this build of mp-mvs has no CUDA backend");
-}
-
-DeviceCacheStats CudaSession::CacheStats() const { return DeviceCacheStats(); }
-size_t CudaSession::CacheBudgetBytes() const { return 0; }
-#endif
 
 }  // namespace kernels
 }  // namespace mpmvs

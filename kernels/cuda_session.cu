@@ -105,6 +105,8 @@ class CudaSession::Impl {
   void UploadAhead(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule);
   void DropAhead();
   PixelState ReserveState(int width, int height);
+  void Download(const PatchMatchSchedule& schedule, const DevicePassBuffers& buffers,
+                const std::vector<cudaEvent_t>& events, PatchMatchResult* result);
 
   int device_;
   Stream compute_;  // kernels, per-pixel state, downloads
@@ -271,7 +273,6 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
   } finish{this, current->plan.ticket};
 
   const int W = problem.ref_camera.width, H = problem.ref_camera.height;
-  const StateLayout layout = MakeStateLayout(W, H);
   ResetResult(W, H, result);
   params.ref_image.data = current->ref_image;
   params.ref_image.quads = nullptr;
@@ -286,7 +287,7 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
   buffers.state = ReserveState(W, H);
   buffers.init_plane = current->init_plane;
   buffers.init_cost = current->init_cost;
-  counters_.Reserve((1 + total) * sizeof(unsigned long long), alloc_, compute);
+  counters_.Reserve(NumNccCounters(total) * sizeof(unsigned long long), alloc_, compute);
   buffers.counters = reinterpret_cast<unsigned long long*>(counters_.get());
   while (iteration_events_.size() < static_cast<size_t>(total + 1)) {
     iteration_events_.push_back(std::make_unique<Event>());
@@ -305,6 +306,18 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
   };
   EnqueuePatchMatchPasses(schedule, params, buffers, compute, events.data(), look_ahead, progress);
 
+  Download(schedule, buffers, events, result);
+}
+
+// Copies the run's per-pixel state and NCC counters into result on the compute stream,
+// waits for them, and adds the iteration statistics (times from the iteration events).
+void CudaSession::Impl::Download(const PatchMatchSchedule& schedule,
+                                 const DevicePassBuffers& buffers,
+                                 const std::vector<cudaEvent_t>& events,
+                                 PatchMatchResult* result) {
+  const cudaStream_t compute = compute_.get();
+  const StateLayout layout = MakeStateLayout(result->width, result->height);
+  const int total = static_cast<int>(schedule.iterations.size());
   auto download = [&](void* host, const void* dev, size_t bytes) {
     if (bytes > 0) {
       MPMVS_CUDA_CHECK(cudaMemcpyAsync(host, dev, bytes, cudaMemcpyDeviceToHost, compute));
@@ -320,16 +333,16 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
     download(result->view_mask.data(), buffers.state.view_mask,
              layout.mask_words * sizeof(uint32_t));
   }
-  std::vector<unsigned long long> evaluations(1 + total, 0ull);
+  std::vector<unsigned long long> evaluations(NumNccCounters(total), 0ull);
   download(evaluations.data(), buffers.counters, evaluations.size() * sizeof(unsigned long long));
   MPMVS_CUDA_CHECK(cudaStreamSynchronize(compute));
 
-  result->init_ncc_evaluations = evaluations[0];
+  result->init_ncc_evaluations = evaluations[kInitCounter];
   for (int it = 0; it < total; ++it) {
     float ms = 0.f;
     MPMVS_CUDA_CHECK(cudaEventElapsedTime(&ms, events[it], events[it + 1]));
     result->iterations.push_back(
-        MakeIterationStats(schedule, it, evaluations[1 + it], 1e-3 * ms));
+        MakeIterationStats(schedule, it, evaluations[IterationCounter(it)], 1e-3 * ms));
   }
 }
 

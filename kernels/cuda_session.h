@@ -6,7 +6,7 @@
 // image run, the caller assembles the next problem (NextProblemCallback) and the session
 // queues its missing uploads on the copy stream; the next run's kernels wait for them with
 // an event. No CUDA types here: the host side compiles without the CUDA headers, and builds
-// without CUDA get a constructor that throws (patch_match.cc).
+// without CUDA get a constructor that throws (cuda_stubs.cc).
 #include <cstddef>
 #include <functional>
 #include <memory>

@@ -136,6 +136,53 @@ bool DeviceCachePlanner::EvictOne(UploadPlan* plan) {
   return true;
 }
 
+void DeviceCachePlanner::QueueUpload(const DeviceInput& input, int index, UploadPlan* plan) {
+  PlannedUpload up;
+  up.input = index;
+  up.bytes = input.bytes;
+  up.staging_offset = AlignUp(plan->staging_bytes);
+  plan->staging_bytes = up.staging_offset + up.bytes;
+  up.copy_sequence = ++copy_sequence_;
+  stats_.uploaded_bytes += up.bytes;
+  plan->uploads.push_back(up);
+  plan->placements[index].uploaded = true;
+  plan->placements[index].copy_sequence = up.copy_sequence;
+}
+
+void DeviceCachePlanner::PlaceHit(const DeviceInput& input, size_t index, EntryMap::iterator it,
+                                  Flight* flight, UploadPlan* plan) {
+  if (it->second.bytes != input.bytes) {
+    throw std::invalid_argument("device cache: " + DescribeKey(input.key) + " has " +
+                                std::to_string(input.bytes) + " bytes but was cached with " +
+                                std::to_string(it->second.bytes) +
+                                " (one id must mean one image for the whole session)");
+  }
+  Pin(it->first, &it->second, flight);
+  plan->placements[index].in_cache = true;
+  plan->placements[index].entry = it->second.id;
+  plan->placements[index].copy_sequence = it->second.copy_sequence;
+  ++stats_.hits;
+}
+
+void DeviceCachePlanner::PlaceMiss(const DeviceInput& input, size_t index, Flight* flight,
+                                   UploadPlan* plan) {
+  while (cached_bytes_ + input.bytes > budget_bytes_ && EvictOne(plan)) {
+  }
+  if (cached_bytes_ + input.bytes > budget_bytes_) plan->over_budget = true;
+  Entry entry;
+  entry.id = ++next_entry_;
+  entry.bytes = input.bytes;
+  auto inserted = entries_.emplace(input.key, entry).first;
+  cached_bytes_ += entry.bytes;
+  Pin(inserted->first, &inserted->second, flight);
+  plan->allocations.push_back(PlannedAllocation{entry.id, entry.bytes});
+  plan->placements[index].in_cache = true;
+  plan->placements[index].entry = entry.id;
+  QueueUpload(input, static_cast<int>(index), plan);
+  inserted->second.copy_sequence = plan->placements[index].copy_sequence;
+  ++stats_.misses;
+}
+
 UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
   if (static_cast<int>(in_flight_.size()) >= kNumSlots) {
     throw std::logic_error(
@@ -150,40 +197,12 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
   Flight flight;
   flight.slot = plan.slot;
   plan.placements.resize(inputs.size());
-  size_t staging = 0;
-  auto queue_upload = [&](int input) {
-    PlannedUpload up;
-    up.input = input;
-    up.bytes = inputs[input].bytes;
-    up.staging_offset = AlignUp(staging);
-    staging = up.staging_offset + up.bytes;
-    up.copy_sequence = ++copy_sequence_;
-    stats_.uploaded_bytes += up.bytes;
-    plan.uploads.push_back(up);
-    plan.placements[input].uploaded = true;
-    plan.placements[input].copy_sequence = up.copy_sequence;
-  };
 
-  // Input i found in the cache: pin it, so that making room below cannot evict it.
-  auto place_hit = [&](size_t i, std::map<DeviceCacheKey, Entry>::iterator it) {
-    if (it->second.bytes != inputs[i].bytes) {
-      throw std::invalid_argument("device cache: " + DescribeKey(inputs[i].key) + " has " +
-                                  std::to_string(inputs[i].bytes) + " bytes but was cached with " +
-                                  std::to_string(it->second.bytes) +
-                                  " (one id must mean one image for the whole session)");
-    }
-    Pin(it->first, &it->second, &flight);
-    plan.placements[i].in_cache = true;
-    plan.placements[i].entry = it->second.id;
-    plan.placements[i].copy_sequence = it->second.copy_sequence;
-    ++stats_.hits;
-  };
-
-  // 1. Pin what is on the device already.
+  // 1. Pin what is on the device already, so that making room below cannot evict it.
   for (size_t i = 0; i < inputs.size(); ++i) {
     if (!inputs[i].cached) continue;
     auto it = entries_.find(inputs[i].key);
-    if (it != entries_.end()) place_hit(i, it);
+    if (it != entries_.end()) PlaceHit(inputs[i], i, it, &flight, &plan);
   }
 
   // 2. Give back what an earlier over-budget problem left beyond the budget.
@@ -195,24 +214,10 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
     if (!inputs[i].cached || plan.placements[i].in_cache) continue;
     auto it = entries_.find(inputs[i].key);
     if (it != entries_.end()) {  // listed earlier by this problem and uploaded just now
-      place_hit(i, it);
-      continue;
+      PlaceHit(inputs[i], i, it, &flight, &plan);
+    } else {
+      PlaceMiss(inputs[i], i, &flight, &plan);
     }
-    while (cached_bytes_ + inputs[i].bytes > budget_bytes_ && EvictOne(&plan)) {
-    }
-    if (cached_bytes_ + inputs[i].bytes > budget_bytes_) plan.over_budget = true;
-    Entry entry;
-    entry.id = ++next_entry_;
-    entry.bytes = inputs[i].bytes;
-    auto inserted = entries_.emplace(inputs[i].key, entry).first;
-    cached_bytes_ += entry.bytes;
-    Pin(inserted->first, &inserted->second, &flight);
-    plan.allocations.push_back(PlannedAllocation{entry.id, entry.bytes});
-    plan.placements[i].in_cache = true;
-    plan.placements[i].entry = entry.id;
-    queue_upload(static_cast<int>(i));
-    inserted->second.copy_sequence = plan.placements[i].copy_sequence;
-    ++stats_.misses;
   }
 
   // 4. Per-problem inputs: packed into the slot buffer, uploaded every time.
@@ -220,11 +225,10 @@ UploadPlan DeviceCachePlanner::Plan(const std::vector<DeviceInput>& inputs) {
     if (inputs[i].cached) continue;
     plan.placements[i].slot_offset = AlignUp(plan.slot_bytes);
     plan.slot_bytes = plan.placements[i].slot_offset + inputs[i].bytes;
-    queue_upload(static_cast<int>(i));
+    QueueUpload(inputs[i], static_cast<int>(i), &plan);
     ++stats_.transient_uploads;
   }
 
-  plan.staging_bytes = staging;
   plan.ready_after_copy = copy_sequence_;
   ++stats_.problems;
   if (plan.over_budget) ++stats_.over_budget_problems;

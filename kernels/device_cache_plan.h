@@ -159,9 +159,16 @@ class DeviceCachePlanner {
     int slot = 0;
     std::vector<DeviceCacheKey> pinned;
   };
+  using EntryMap = std::map<DeviceCacheKey, Entry>;
   // Evicts the least recently used unpinned entry into plan; false when there is none.
   bool EvictOne(UploadPlan* plan);
   void Pin(const DeviceCacheKey& key, Entry* entry, Flight* flight);
+  // Steps of Plan for inputs[index]: found in the cache at `it` (pinned); not found (a new
+  // entry, room made by evictions); its upload through the staging buffer.
+  void PlaceHit(const DeviceInput& input, size_t index, EntryMap::iterator it, Flight* flight,
+                UploadPlan* plan);
+  void PlaceMiss(const DeviceInput& input, size_t index, Flight* flight, UploadPlan* plan);
+  void QueueUpload(const DeviceInput& input, int index, UploadPlan* plan);
 
   size_t budget_bytes_;
   size_t cached_bytes_ = 0;
@@ -169,7 +176,7 @@ class DeviceCachePlanner {
   uint64_t next_entry_ = 0;
   uint64_t next_ticket_ = 0;
   uint64_t copy_sequence_ = 0;
-  std::map<DeviceCacheKey, Entry> entries_;
+  EntryMap entries_;
   std::map<uint64_t, Flight> in_flight_;
   DeviceCacheStats stats_;
 };

@@ -68,7 +68,48 @@ inline void SumThree(__m256 s8, __m256 ss8, __m256 rs8, float* s, float* ss, flo
   *rs = _mm_cvtss_f32(_mm_movehl_ps(sums, sums));
 }
 
+// The NCC cost of a window from its weighted sums s, ss, rs (8 lanes each), as
+// ComputeNccCost ends.
+MPMVS_FORCE_INLINE float NccCostOfSums(const RefPatch& patch, __m256 s8, __m256 ss8, __m256 rs8) {
+  float s, ss, rs;
+  SumThree(s8, ss8, rs8, &s, &ss, &rs);
+  const float var_s = ss - s * s;
+  if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
+  const float cov = rs - patch.mean * s;
+  return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
+}
+
 #if defined(__AVX512F__) && defined(__AVX512VL__)
+// Bilinear value at (fx, fy) of the packed neighbours q (a quads word per lane), minus
+// shift = 2^23 + centre. Bytes become floats without conversions: a byte b OR-ed into the
+// mantissa of 2^23 is the float 2^23 + b, so differences of two such floats are the exact
+// byte differences; subtracting 2^23 + centre (the centre shift of ComputeRefPatch, rounded
+// to an integer if it is not one) keeps them exact, and NCC ignores a constant offset.
+MPMVS_FORCE_INLINE __m512 BilinearQuads512(__m512i q, __m512 fx, __m512 fy, __m512 shift) {
+  const __m512i byte = _mm512_set1_epi32(0xff);
+  const __m512i magic = _mm512_set1_epi32(0x4b000000);  // 2^23
+  const __m512 p00 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(q, byte, magic, 0xea));
+  const __m512 p01 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 8), byte, magic, 0xea));
+  const __m512 p10 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 16), byte, magic, 0xea));
+  const __m512 p11 = _mm512_castsi512_ps(_mm512_or_si512(_mm512_srli_epi32(q, 24), magic));
+  const __m512 top = _mm512_fmadd_ps(fx, _mm512_sub_ps(p01, p00), _mm512_sub_ps(p00, shift));
+  const __m512 bottom = _mm512_fmadd_ps(fx, _mm512_sub_ps(p11, p10), _mm512_sub_ps(p10, shift));
+  return _mm512_fmadd_ps(fy, _mm512_sub_ps(bottom, top), top);
+}
+
+// BilinearQuads512 on 8 lanes.
+MPMVS_FORCE_INLINE __m256 BilinearQuads256(__m256i q, __m256 fx, __m256 fy, __m256 shift) {
+  const __m256i byte = _mm256_set1_epi32(0xff);
+  const __m256i magic = _mm256_set1_epi32(0x4b000000);  // 2^23
+  const __m256 p00 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(q, byte, magic, 0xea));
+  const __m256 p01 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 8), byte, magic, 0xea));
+  const __m256 p10 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 16), byte, magic, 0xea));
+  const __m256 p11 = _mm256_castsi256_ps(_mm256_or_si256(_mm256_srli_epi32(q, 24), magic));
+  const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), _mm256_sub_ps(p00, shift));
+  const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), _mm256_sub_ps(p10, shift));
+  return _mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top);
+}
+
 // AVX-512 form of the 8-bit path: the 36 samples in two 16-lane blocks and a 4-lane tail.
 inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const float H[9], float fu,
                              float fv) {
@@ -82,8 +123,6 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
   const __m512 xmax = _mm512_set1_ps(static_cast<float>(src.width - 1));
   const __m512 ymax = _mm512_set1_ps(static_cast<float>(src.height - 1));
   const __m512 width = _mm512_set1_ps(static_cast<float>(src.width));
-  const __m512i byte = _mm512_set1_epi32(0xff);
-  const __m512i magic = _mm512_set1_epi32(0x4b000000);  // 2^23
   const __m512 shift = _mm512_set1_ps(8388608.f + patch.centre);
   const int* base = reinterpret_cast<const int*>(src.quads);
   static_assert(kWindowSamples == 36 && kWindowSamplesPadded >= 40, "16 + 16 + 4 (of 8) lanes");
@@ -104,17 +143,7 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
     const __m512 fx = _mm512_sub_ps(sx, x0);
     const __m512 fy = _mm512_sub_ps(sy, y0);
     const __m512i q = _mm512_i32gather_epi32(_mm512_cvttps_epi32(_mm512_fmadd_ps(y0, width, x0)), base, 4);
-    // Bytes to floats without conversions: a byte b OR-ed into the mantissa of 2^23 is the
-    // float 2^23 + b, so differences of two such floats are the exact byte differences.
-    const __m512 p00 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(q, byte, magic, 0xea));
-    const __m512 p01 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 8), byte, magic, 0xea));
-    const __m512 p10 = _mm512_castsi512_ps(_mm512_ternarylogic_epi32(_mm512_srli_epi32(q, 16), byte, magic, 0xea));
-    const __m512 p11 = _mm512_castsi512_ps(_mm512_or_si512(_mm512_srli_epi32(q, 24), magic));
-    // Minus 2^23 + centre (the centre shift of ComputeRefPatch, rounded to an integer if
-    // it is not one: exact differences, and NCC ignores a constant offset anyway).
-    const __m512 top = _mm512_fmadd_ps(fx, _mm512_sub_ps(p01, p00), _mm512_sub_ps(p00, shift));
-    const __m512 bottom = _mm512_fmadd_ps(fx, _mm512_sub_ps(p11, p10), _mm512_sub_ps(p10, shift));
-    const __m512 value = _mm512_fmadd_ps(fy, _mm512_sub_ps(bottom, top), top);
+    const __m512 value = BilinearQuads512(q, fx, fy, shift);
     const __m512 wv = _mm512_mul_ps(_mm512_loadu_ps(patch.weight + b), value);
     sum_s = _mm512_add_ps(sum_s, wv);
     sum_ss = _mm512_fmadd_ps(wv, value, sum_ss);
@@ -138,28 +167,57 @@ inline float NccCostQuads512(const RefPatch& patch, const ImageView& src, const 
   const __m256 fy = _mm256_sub_ps(sy, y0);
   const __m256i q = _mm256_mmask_i32gather_epi32(
       _mm256_setzero_si256(), 0x0f, _mm256_cvttps_epi32(_mm256_fmadd_ps(y0, low(width), x0)), base, 4);
-  const __m256i byte8 = _mm512_castsi512_si256(byte), magic8 = _mm512_castsi512_si256(magic);
-  const __m256 p00 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(q, byte8, magic8, 0xea));
-  const __m256 p01 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 8), byte8, magic8, 0xea));
-  const __m256 p10 = _mm256_castsi256_ps(_mm256_ternarylogic_epi32(_mm256_srli_epi32(q, 16), byte8, magic8, 0xea));
-  const __m256 p11 = _mm256_castsi256_ps(_mm256_or_si256(_mm256_srli_epi32(q, 24), magic8));
-  const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), _mm256_sub_ps(p00, low(shift)));
-  const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), _mm256_sub_ps(p10, low(shift)));
-  const __m256 value = _mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top);
+  const __m256 value = BilinearQuads256(q, fx, fy, low(shift));
   const __m256 wv = _mm256_mul_ps(_mm256_loadu_ps(patch.weight + 32), value);
   auto high = [](__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); };
   const __m256 s8 = _mm256_add_ps(_mm256_add_ps(low(sum_s), high(sum_s)), wv);
   const __m256 ss8 = _mm256_fmadd_ps(wv, value, _mm256_add_ps(low(sum_ss), high(sum_ss)));
   const __m256 rs8 = _mm256_fmadd_ps(_mm256_loadu_ps(patch.weighted_value + 32), value,
                                      _mm256_add_ps(low(sum_rs), high(sum_rs)));
-  float s, ss, rs;
-  SumThree(s8, ss8, rs8, &s, &ss, &rs);
-  const float var_s = ss - s * s;
-  if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
-  const float cov = rs - patch.mean * s;
-  return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
+  return NccCostOfSums(patch, s8, ss8, rs8);
 }
 #endif
+
+// Bilinear values of 8 samples from packed 8-bit neighbours (ImageView::quads) at row-major
+// indices `index`, minus `shift`: one gather brings the four neighbours of each sample. The
+// last block of a window holds only kWindowSamples % 8 real samples (full = false): its
+// padding lanes are not loaded.
+MPMVS_FORCE_INLINE __m256 SampleQuads8(const ImageView& src, __m256i index, bool full,
+                                       __m256 fx, __m256 fy, __m256 shift) {
+  const int* base = reinterpret_cast<const int*>(src.quads);
+  const __m256i tail_mask = _mm256_cmpgt_epi32(
+      _mm256_set1_epi32(kWindowSamples % 8), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i q = full ? _mm256_i32gather_epi32(base, index, 4)
+                         : _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, index,
+                                                       tail_mask, 4);
+  const __m256i byte = _mm256_set1_epi32(0xff);
+  const __m256 p00 = _mm256_cvtepi32_ps(_mm256_and_si256(q, byte));
+  const __m256 p01 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 8), byte));
+  const __m256 p10 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 16), byte));
+  const __m256 p11 = _mm256_cvtepi32_ps(_mm256_srli_epi32(q, 24));
+  const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
+  const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
+  return _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
+}
+
+// Bilinear values of 8 samples of a float image at pixel (x0, y0) + (fx, fy), clamped to
+// the edge like SampleBilinear, minus `shift`: four gathers.
+MPMVS_FORCE_INLINE __m256 SampleFloats8(const ImageView& src, __m256i x0, __m256i y0,
+                                        __m256 fx, __m256 fy, __m256 shift) {
+  const __m256i width = _mm256_set1_epi32(src.width);
+  const __m256i one = _mm256_set1_epi32(1);
+  const __m256i x1 = _mm256_min_epi32(_mm256_add_epi32(x0, one), _mm256_set1_epi32(src.width - 1));
+  const __m256i y1 = _mm256_min_epi32(_mm256_add_epi32(y0, one), _mm256_set1_epi32(src.height - 1));
+  const __m256i r0 = _mm256_mullo_epi32(y0, width);
+  const __m256i r1 = _mm256_mullo_epi32(y1, width);
+  const __m256 p00 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x0), 4);
+  const __m256 p01 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x1), 4);
+  const __m256 p10 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x0), 4);
+  const __m256 p11 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x1), 4);
+  const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
+  const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
+  return _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
+}
 
 // ComputeNccCost's sampling part (NccCostOfDefined), vectorised.
 inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, const float H[9], int u,
@@ -181,12 +239,7 @@ inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, c
   const __m256 xmax = _mm256_set1_ps(static_cast<float>(src.width - 1));
   const __m256 ymax = _mm256_set1_ps(static_cast<float>(src.height - 1));
   const __m256i width = _mm256_set1_epi32(src.width);
-  const __m256i xlast = _mm256_set1_epi32(src.width - 1);
-  const __m256i ylast = _mm256_set1_epi32(src.height - 1);
-  const __m256i one = _mm256_set1_epi32(1);
   const __m256 shift = _mm256_set1_ps(patch.centre);
-  const __m256i tail_mask = _mm256_cmpgt_epi32(
-      _mm256_set1_epi32(kWindowSamples % 8), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
   __m256 sum_s = zero, sum_ss = zero, sum_rs = zero;
   for (int b = 0; b < kWindowSamplesPadded; b += 8) {
     const __m256 x = _mm256_loadu_ps(patch.offset_x + b);
@@ -204,48 +257,16 @@ inline float NccCostOfDefinedSimd(const RefPatch& patch, const ImageView& src, c
     const __m256i y0 = _mm256_cvttps_epi32(sy);
     const __m256 fx = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(x0));
     const __m256 fy = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
-    const __m256i r0 = _mm256_mullo_epi32(y0, width);
-    __m256 value;
-    if (src.quads) {
-      // One gather brings the four neighbours of 8 samples, one byte each.
-      // The last block holds only kWindowSamples % 8 real samples: skip the padding loads.
-      const int* base = reinterpret_cast<const int*>(src.quads);
-      const __m256i index = _mm256_add_epi32(r0, x0);
-      const __m256i q =
-          b + 8 <= kWindowSamples
-              ? _mm256_i32gather_epi32(base, index, 4)
-              : _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), base, index, tail_mask, 4);
-      const __m256i byte = _mm256_set1_epi32(0xff);
-      const __m256 p00 = _mm256_cvtepi32_ps(_mm256_and_si256(q, byte));
-      const __m256 p01 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 8), byte));
-      const __m256 p10 = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(q, 16), byte));
-      const __m256 p11 = _mm256_cvtepi32_ps(_mm256_srli_epi32(q, 24));
-      const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
-      const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
-      value = _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
-    } else {
-      const __m256i x1 = _mm256_min_epi32(_mm256_add_epi32(x0, one), xlast);
-      const __m256i y1 = _mm256_min_epi32(_mm256_add_epi32(y0, one), ylast);
-      const __m256i r1 = _mm256_mullo_epi32(y1, width);
-      const __m256 p00 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x0), 4);
-      const __m256 p01 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r0, x1), 4);
-      const __m256 p10 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x0), 4);
-      const __m256 p11 = _mm256_i32gather_ps(src.data, _mm256_add_epi32(r1, x1), 4);
-      const __m256 top = _mm256_fmadd_ps(fx, _mm256_sub_ps(p01, p00), p00);
-      const __m256 bottom = _mm256_fmadd_ps(fx, _mm256_sub_ps(p11, p10), p10);
-      value = _mm256_sub_ps(_mm256_fmadd_ps(fy, _mm256_sub_ps(bottom, top), top), shift);
-    }
+    const __m256 value =
+        src.quads ? SampleQuads8(src, _mm256_add_epi32(_mm256_mullo_epi32(y0, width), x0),
+                                 b + 8 <= kWindowSamples, fx, fy, shift)
+                  : SampleFloats8(src, x0, y0, fx, fy, shift);
     const __m256 wv = _mm256_mul_ps(_mm256_loadu_ps(patch.weight + b), value);
     sum_s = _mm256_add_ps(sum_s, wv);
     sum_ss = _mm256_fmadd_ps(wv, value, sum_ss);
     sum_rs = _mm256_fmadd_ps(_mm256_loadu_ps(patch.weighted_value + b), value, sum_rs);
   }
-  float s, ss, rs;
-  SumThree(sum_s, sum_ss, sum_rs, &s, &ss, &rs);
-  const float var_s = ss - s * s;
-  if (SourcePatchIsFlat(var_s, ss)) return kInvalidCost;
-  const float cov = rs - patch.mean * s;
-  return Clamp(1.f - cov / sqrtf(patch.variance * var_s), 0.f, 2.f);
+  return NccCostOfSums(patch, sum_s, sum_ss, sum_rs);
 }
 
 struct SimdNcc {

@@ -156,21 +156,5 @@ void ExtractDepthNormalMaps(const PatchMatchProblem& problem, const PatchMatchRe
   }
 }
 
-// Builds without CUDA (no nvcc, or -DMPMVS_ENABLE_CUDA=OFF); otherwise cuda_backend.cu.
-#if !defined(MPMVS_WITH_CUDA)
-bool CudaDeviceAvailable(int, std::string* why) {
-  if (why) {
-    *why = "this build of mp-mvs has no CUDA backend (nvcc not found at build time or "
-           "-DMPMVS_ENABLE_CUDA=OFF)";
-  }
-  return false;
-}
-
-void RunPatchMatchCuda(const PatchMatchProblem&, const PatchMatchSchedule&, int,
-                       PatchMatchResult*, const ProgressCallback&) {
-  throw std::runtime_error("this build of mp-mvs has no CUDA backend");
-}
-#endif
-
 }  // namespace kernels
 }  // namespace mpmvs

@@ -302,25 +302,52 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
 }
 
 // ---------------------------------------------------------------------------------------
-// Propagation + view selection + refinement of one pixel (one checkerboard pass).
+// Propagation + view selection + refinement of one pixel (one checkerboard pass), in the
+// steps UpdatePixel runs them.
 
-template <class Ncc>
-MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& state, int u, int v,
-                                 uint32_t* num_ncc) {
-  const int W = params.ref_camera.width, Hh = params.ref_camera.height;
-  const int idx = v * W + u;
-  const int N = params.num_sources;
-  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
-  RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
+// The propagation candidates of a pixel: the best stored hypothesis of each region.
+struct Candidates {
+  Plane plane[kNumRegions];
+  bool valid[kNumRegions];  // found, with a depth in range
+};
 
-  RefPatch patch;
-  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+// A pixel's planar prior: active on labelled pixels of prior passes.
+struct PixelPrior {
+  bool active;
+  Plane plane;
+};
 
-  // 1. Best stored hypothesis per region (neighbours have the other colour: no races).
-  // All regions' choices first, then their planes: the plane loads (often cache misses
-  // with distant regions) are then independent and overlap instead of queueing.
-  Plane candidates[kNumRegions];
-  bool valid[kNumRegions];
+// The hypothesis a pixel holds during its update.
+struct Hypothesis {
+  Plane plane;
+  WeightedCost cost;
+  float score;    // PriorScore, kept up to date on prior pixels only
+  uint32_t mask;  // its selected views
+};
+
+// Whether a hypothesis of cost `cost` and prior score `score` replaces `than`: a higher
+// prior score on prior pixels, a lower cost elsewhere.
+MPMVS_HD MPMVS_FORCE_INLINE bool Replaces(const PixelPrior& prior, const WeightedCost& cost,
+                                          float score, const Hypothesis& than) {
+  return prior.active ? score > than.score : cost.total < than.cost.total;
+}
+
+// The first valid candidate before r with r's plane, or -1: propagation often brings the
+// same plane from several regions, whose costs are then computed once.
+MPMVS_HD MPMVS_FORCE_INLINE int EarlierSameCandidate(const Candidates& cand, int r) {
+  for (int q = 0; q < r; ++q) {
+    if (cand.valid[q] && SamePlane(cand.plane[q], cand.plane[r])) return q;
+  }
+  return -1;
+}
+
+// 1. Best stored hypothesis per region (neighbours have the other colour: no races).
+// All regions' choices first, then their planes: the plane loads (often cache misses
+// with distant regions) are then independent and overlap instead of queueing.
+MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
+                                                  const PixelState& state, int u, int v,
+                                                  Vec3 ray, Candidates* cand) {
+  const int W = params.ref_camera.width, H = params.ref_camera.height;
   int best_of[kNumRegions];
   for (int r = 0; r < kNumRegions; ++r) {
     int best = -1;
@@ -328,7 +355,7 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
     for (int i = 0; i < params.pattern.num_samples[r]; ++i) {
       const int x = u + params.pattern.du[r][i];
       const int y = v + params.pattern.dv[r][i];
-      if (x < 0 || y < 0 || x >= W || y >= Hh) continue;
+      if (x < 0 || y < 0 || x >= W || y >= H) continue;
       const int q = y * W + x;
       const float c = state.cost[q];
       if (best < 0 || c < best_cost) {
@@ -339,163 +366,217 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
     best_of[r] = best;
   }
   for (int r = 0; r < kNumRegions; ++r) {
-    valid[r] = false;
+    cand->valid[r] = false;
     if (best_of[r] >= 0) {
-      candidates[r] = LoadPlane(state.plane, best_of[r]);
-      valid[r] = DepthInRange(params, PlaneDepth(candidates[r], ray));
+      cand->plane[r] = LoadPlane(state.plane, best_of[r]);
+      cand->valid[r] = DepthInRange(params, PlaneDepth(cand->plane[r], ray));
     }
   }
+}
 
-  // 2. Per-view photometric costs of the candidates (invalid regions: cost 2, left out).
-  // Propagation often brings the same plane from several regions: evaluate it once.
-  float photo[kNumRegions * kMaxSourceViews];
+// 2. Per-view photometric costs of the candidates, photo[r * N + s] (invalid regions:
+// cost 2, left out by the view selection).
+template <class Ncc>
+MPMVS_HD MPMVS_FORCE_INLINE void CandidatePhotoCosts(const PassParams& params,
+                                                     const RefPatch& patch,
+                                                     const Candidates& cand, int u, int v,
+                                                     float* photo, uint32_t* num_ncc) {
+  const int N = params.num_sources;
   for (int r = 0; r < kNumRegions; ++r) {
-    if (!valid[r]) {
+    if (!cand.valid[r]) {
       for (int s = 0; s < N; ++s) photo[r * N + s] = kInvalidCost;
       continue;
     }
-    int same = -1;
-    for (int q = 0; q < r && same < 0; ++q) {
-      if (valid[q] && SamePlane(candidates[q], candidates[r])) same = q;
-    }
+    const int same = EarlierSameCandidate(cand, r);
     if (same >= 0) {
       for (int s = 0; s < N; ++s) photo[r * N + s] = photo[same * N + s];
       continue;
     }
-    const Vec3 m = HomographyPlaneVector(params.ref_camera, candidates[r]);
+    const Vec3 m = HomographyPlaneVector(params.ref_camera, cand.plane[r]);
     for (int s = 0; s < N; ++s) photo[r * N + s] = ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
   }
+}
 
-  // 3. View selection with the neighbour prior.
+// 3. View selection with the prior of the four neighbours' views; returns the selected
+// views, their weights in `weights`.
+MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params,
+                                                      const PixelState& state, int u, int v,
+                                                      const float* photo, const bool* valid,
+                                                      RandomStream* rng, float* weights) {
+  const int W = params.ref_camera.width, H = params.ref_camera.height;
+  const int idx = v * W + u;
   uint32_t neighbour_masks[4];
   int num_neighbours = 0;
   if (v > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - W];
-  if (v + 1 < Hh) neighbour_masks[num_neighbours++] = state.view_mask[idx + W];
+  if (v + 1 < H) neighbour_masks[num_neighbours++] = state.view_mask[idx + W];
   if (u > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - 1];
   if (u + 1 < W) neighbour_masks[num_neighbours++] = state.view_mask[idx + 1];
-  float prior[kMaxSourceViews], weights[kMaxSourceViews];
-  NeighbourViewPrior(neighbour_masks, num_neighbours, N, params.view_selection, prior);
-  const uint32_t selected =
-      SelectViews(photo, valid, N, prior, params.view_selection, &rng, weights);
+  float prior[kMaxSourceViews];
+  NeighbourViewPrior(neighbour_masks, num_neighbours, params.num_sources, params.view_selection,
+                     prior);
+  return SelectViews(photo, valid, params.num_sources, prior, params.view_selection, rng, weights);
+}
+
+// 4a. View-weighted costs of the valid candidates from their per-view photometric costs,
+// plus the geometric term in geometric passes.
+MPMVS_HD MPMVS_FORCE_INLINE void CandidateCosts(const PassParams& params, const float* weights,
+                                                const Candidates& cand, const float* photo,
+                                                int u, int v, Vec3 ray, WeightedCost* costs) {
+  const int N = params.num_sources;
   float wsum = 0.f;
   for (int s = 0; s < N; ++s) wsum += weights[s];
-
-  // 4. Weighted costs of the candidates, then of the current plane (reused when a
-  // candidate is the current plane itself, which is common once a region has converged).
-  Plane current = LoadPlane(state.plane, idx);
-  uint32_t mask = state.view_mask[idx];
-  WeightedCost cand_cost[kNumRegions];
-  int current_row = -1;
   for (int r = 0; r < kNumRegions; ++r) {
-    if (!valid[r]) continue;
-    int same = -1;
-    for (int q = 0; q < r && same < 0; ++q) {
-      if (valid[q] && SamePlane(candidates[q], candidates[r])) same = q;
-    }
+    if (!cand.valid[r]) continue;
+    const int same = EarlierSameCandidate(cand, r);
     if (same >= 0) {
-      cand_cost[r] = cand_cost[same];
-    } else {
-      WeightedCost c;
-      c.photo = 0.f;
-      for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
-      c.photo /= wsum;
-      c.geo = 0.f;
-      if (params.geometric) {
-        const float depth = PlaneDepth(candidates[r], ray);
-        for (int s = 0; s < N; ++s) {
-          if (weights[s] > 0.f)
-            c.geo += weights[s] * GeometricError(params, params.sources[s], u, v, ray, depth);
-        }
-        c.geo /= wsum;
-      }
-      c.total = c.photo + params.geom_lambda * c.geo;
-      cand_cost[r] = c;
+      costs[r] = costs[same];
+      continue;
     }
-    if (current_row < 0 && SamePlane(candidates[r], current)) current_row = r;
+    WeightedCost c;
+    c.photo = 0.f;
+    for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
+    c.photo /= wsum;
+    c.geo = 0.f;
+    if (params.geometric) {
+      const float depth = PlaneDepth(cand.plane[r], ray);
+      for (int s = 0; s < N; ++s) {
+        if (weights[s] > 0.f)
+          c.geo += weights[s] * GeometricError(params, params.sources[s], u, v, ray, depth);
+      }
+      c.geo /= wsum;
+    }
+    c.total = c.photo + params.geom_lambda * c.geo;
+    costs[r] = c;
   }
-  WeightedCost current_cost = current_row >= 0
-                                  ? cand_cost[current_row]
-                                  : EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, current, num_ncc);
+}
 
-  const bool prior_pixel = params.use_prior && params.prior.label[idx];
-  Plane prior_plane{};
-  float current_score = 0.f;
-  if (prior_pixel) {
-    prior_plane = LoadPlane(params.prior.plane, idx);
-    current_score = PriorScore(params.prior, current_cost.total, current, prior_plane, ray);
+// 4b. The pixel's stored hypothesis, costed with the new view weights (a candidate's cost
+// when one is the stored plane itself, which is common once a region has converged).
+template <class Ncc>
+MPMVS_HD MPMVS_FORCE_INLINE Hypothesis StoredHypothesis(
+    const PassParams& params, const PixelState& state, const RefPatch& patch,
+    const float* weights, const Candidates& cand, const WeightedCost* costs,
+    const PixelPrior& prior, int u, int v, Vec3 ray, uint32_t* num_ncc) {
+  const int idx = v * params.ref_camera.width + u;
+  Hypothesis h;
+  h.plane = LoadPlane(state.plane, idx);
+  h.mask = state.view_mask[idx];
+  int current_row = -1;
+  for (int r = 0; r < kNumRegions && current_row < 0; ++r) {
+    if (cand.valid[r] && SamePlane(cand.plane[r], h.plane)) current_row = r;
   }
+  h.cost = current_row >= 0 ? costs[current_row]
+                            : EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, h.plane, num_ncc);
+  h.score = prior.active ? PriorScore(params.prior, h.cost.total, h.plane, prior.plane, ray) : 0.f;
+  return h;
+}
 
+// 4c. The best candidate replaces the stored hypothesis if it is better, with the views
+// selected in step 3.
+MPMVS_HD MPMVS_FORCE_INLINE void AdoptBestCandidate(const PassParams& params,
+                                                    const Candidates& cand,
+                                                    const WeightedCost* costs,
+                                                    const PixelPrior& prior, Vec3 ray,
+                                                    uint32_t selected, Hypothesis* current) {
   int best_r = -1;
-  WeightedCost best_cost{0.f, 0.f, 0.f};
-  float best_score = 0.f;
+  Hypothesis best{Plane{}, WeightedCost{0.f, 0.f, 0.f}, 0.f, selected};
   for (int r = 0; r < kNumRegions; ++r) {
-    if (!valid[r]) continue;
-    const WeightedCost& c = cand_cost[r];
-    if (prior_pixel) {
-      const float score = PriorScore(params.prior, c.total, candidates[r], prior_plane, ray);
-      if (best_r < 0 || score > best_score) {
-        best_r = r;
-        best_cost = c;
-        best_score = score;
-      }
-    } else if (best_r < 0 || c.total < best_cost.total) {
+    if (!cand.valid[r]) continue;
+    const float score =
+        prior.active ? PriorScore(params.prior, costs[r].total, cand.plane[r], prior.plane, ray) : 0.f;
+    if (best_r < 0 || Replaces(prior, costs[r], score, best)) {
       best_r = r;
-      best_cost = c;
+      best.plane = cand.plane[r];
+      best.cost = costs[r];
+      best.score = score;
     }
   }
-  if (best_r >= 0) {
-    const bool better = prior_pixel ? best_score > current_score : best_cost.total < current_cost.total;
-    if (better) {
-      current = candidates[best_r];
-      current_cost = best_cost;
-      current_score = best_score;
-      mask = selected;
-    }
-  }
+  if (best_r >= 0 && Replaces(prior, best.cost, best.score, *current)) *current = best;
+}
 
-  // 5. Random refinement: 5 candidates around / away from the current plane.
+// 5a. The 5 refinement planes around / away from the current one (ACMP's sampling around
+// the prior plane on prior pixels; the reference MP-MVS code lost that branch).
+struct RefinementPlanes {
+  float depth[5];
+  Vec3 normal[5];
+};
+MPMVS_HD MPMVS_FORCE_INLINE RefinementPlanes RefinementCandidates(const PassParams& params,
+                                                                  const PixelPrior& prior,
+                                                                  Vec3 ray, const Plane& current,
+                                                                  RandomStream* rng) {
   const float depth_now = PlaneDepth(current, ray);
-  float depth_rand, depth_perturbed;
+  float depth_rand;
   Vec3 normal_rand;
-  if (prior_pixel) {
-    // Sample around the prior plane (ACMP; the reference MP-MVS code lost this branch).
-    const float prior_depth = PlaneDepth(prior_plane, ray);
+  if (prior.active) {
+    const float prior_depth = PlaneDepth(prior.plane, ray);
     const float span = 3.f * params.prior.sigma_depth;
-    depth_rand = Clamp(rng.Uniform(prior_depth - span, prior_depth + span), params.depth_min,
+    depth_rand = Clamp(rng->Uniform(prior_depth - span, prior_depth + span), params.depth_min,
                        params.depth_max);
-    normal_rand = PerturbNormal(&rng, prior_plane.n, 0.5f * params.prior.sigma_normal, ray);
+    normal_rand = PerturbNormal(rng, prior.plane.n, 0.5f * params.prior.sigma_normal, ray);
   } else {
-    depth_rand = rng.Uniform(params.depth_min, params.depth_max);
-    normal_rand = RandomNormal(&rng, ray);
+    depth_rand = rng->Uniform(params.depth_min, params.depth_max);
+    normal_rand = RandomNormal(rng, ray);
   }
   const float rho = params.refinement.rho;
-  depth_perturbed = rng.Uniform((1.f - rho) * depth_now, (1.f + rho) * depth_now);
-  const Vec3 normal_perturbed = PerturbNormal(&rng, current.n, 0.5f * rho * kPi, ray);
+  const float depth_perturbed = rng->Uniform((1.f - rho) * depth_now, (1.f + rho) * depth_now);
+  const Vec3 normal_perturbed = PerturbNormal(rng, current.n, 0.5f * rho * kPi, ray);
   const Vec3 normal_now = current.n;
-  const float cand_depth[5] = {depth_rand, depth_now, depth_rand, depth_now, depth_perturbed};
-  const Vec3 cand_normal[5] = {normal_now, normal_rand, normal_rand, normal_perturbed, normal_now};
+  return RefinementPlanes{{depth_rand, depth_now, depth_rand, depth_now, depth_perturbed},
+                          {normal_now, normal_rand, normal_rand, normal_perturbed, normal_now}};
+}
+
+// 5b. Random refinement: each refinement plane in range replaces the current one if better.
+template <class Ncc>
+MPMVS_HD MPMVS_FORCE_INLINE void Refine(const PassParams& params, const RefPatch& patch,
+                                        const float* weights, const PixelPrior& prior, int u,
+                                        int v, Vec3 ray, RandomStream* rng, Hypothesis* current,
+                                        uint32_t* num_ncc) {
+  const RefinementPlanes planes = RefinementCandidates(params, prior, ray, current->plane, rng);
   for (int i = 0; i < 5; ++i) {
-    if (!DepthInRange(params, cand_depth[i])) continue;
-    const Plane cand = PlaneFromDepthNormal(ray, cand_depth[i], cand_normal[i]);
-    const WeightedCost c = EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, cand, num_ncc);
-    if (prior_pixel) {
-      const float score = PriorScore(params.prior, c.total, cand, prior_plane, ray);
-      if (score > current_score) {
-        current = cand;
-        current_cost = c;
-        current_score = score;
-      }
-    } else if (c.total < current_cost.total) {
-      current = cand;
-      current_cost = c;
+    if (!DepthInRange(params, planes.depth[i])) continue;
+    const Plane plane = PlaneFromDepthNormal(ray, planes.depth[i], planes.normal[i]);
+    const WeightedCost c = EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, plane, num_ncc);
+    const float score = prior.active ? PriorScore(params.prior, c.total, plane, prior.plane, ray) : 0.f;
+    if (Replaces(prior, c, score, *current)) {
+      current->plane = plane;
+      current->cost = c;
+      current->score = score;
     }
   }
+}
 
-  StorePlane(state.plane, idx, current);
-  state.cost[idx] = current_cost.total;
-  state.photo_cost[idx] = current_cost.photo;
-  state.geo_error[idx] = current_cost.geo;
-  state.view_mask[idx] = mask;
+// One checkerboard update of pixel (u, v): propagation candidates, view selection, their
+// costs, the better of them and the stored hypothesis, then random refinement.
+template <class Ncc>
+MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& state, int u, int v,
+                                 uint32_t* num_ncc) {
+  const int idx = v * params.ref_camera.width + u;
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
+  RefPatch patch;
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+
+  Candidates cand;
+  GatherCandidates(params, state, u, v, ray, &cand);
+  float photo[kNumRegions * kMaxSourceViews];
+  CandidatePhotoCosts<Ncc>(params, patch, cand, u, v, photo, num_ncc);
+  float weights[kMaxSourceViews];
+  const uint32_t selected = SelectPixelViews(params, state, u, v, photo, cand.valid, &rng, weights);
+
+  WeightedCost costs[kNumRegions];
+  CandidateCosts(params, weights, cand, photo, u, v, ray, costs);
+  PixelPrior prior{params.use_prior && params.prior.label[idx], Plane{}};
+  if (prior.active) prior.plane = LoadPlane(params.prior.plane, idx);
+  Hypothesis current = StoredHypothesis<Ncc>(params, state, patch, weights, cand, costs, prior, u,
+                                             v, ray, num_ncc);
+  AdoptBestCandidate(params, cand, costs, prior, ray, selected, &current);
+  Refine<Ncc>(params, patch, weights, prior, u, v, ray, &rng, &current, num_ncc);
+
+  StorePlane(state.plane, idx, current.plane);
+  state.cost[idx] = current.cost.total;
+  state.photo_cost[idx] = current.cost.photo;
+  state.geo_error[idx] = current.cost.geo;
+  state.view_mask[idx] = current.mask;
 }
 
 // Depth and camera-frame normal of the final plane; 0 where the pixel has no valid estimate.

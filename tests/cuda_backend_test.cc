@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/cuda_passes.h"
 #include "kernels/cuda_session.h"
 #include "kernels/launch_layout.h"
 #include "kernels/patch_match.h"
@@ -223,44 +224,63 @@ void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& o
   EXPECT_EQ(other.init_ncc_evaluations, cpu.init_ncc_evaluations);  // no decisions in init
 }
 
-// The CUDA backend's pass sequence executed on the CPU: the launch layouts, the shared pass
-// setup and the ScalarNcc the device uses. Tests everything but the CUDA API calls, and
-// shows that ScalarNcc vs the CPU backend's NCC (different rounding, like the GPU's) stays
-// within the tolerance the GPU test asks for.
+// The CUDA backend's launches executed on the CPU: every thread of every block of the
+// launch layout runs the kernels' thread body, in the pass sequence of LaunchPasses, into
+// the same NCC counters (cuda_passes.h; cuda_backend.cu launches the same on the device).
+struct HostLaunch {
+  PixelState state;
+  const float* init_plane = nullptr;
+  const float* init_cost = nullptr;
+  std::vector<uint64_t> counters;
+  std::vector<int> marks;
+
+  void Run(PassKernel kernel, const LaunchLayout& layout, const PassParams& params,
+           int counter) {
+    uint32_t count = 0;
+    for (int by = 0; by < layout.grid.y; ++by) {
+      for (int bx = 0; bx < layout.grid.x; ++bx) {
+        for (int ty = 0; ty < layout.block.y; ++ty) {
+          for (int tx = 0; tx < layout.block.x; ++tx) {
+            const Dim2 block{bx, by}, thread{tx, ty};
+            if (kernel == PassKernel::kInitialize) {
+              InitializeThread(params, state, init_plane, init_cost, block, layout.block, thread,
+                               &count);
+            } else {
+              CheckerboardThread(params, state, block, layout.block, thread, &count);
+            }
+          }
+        }
+      }
+    }
+    counters.at(counter) += count;
+  }
+  void Queued(int mark) { marks.push_back(mark); }
+};
+
+// Tests everything of the CUDA backend but the CUDA API calls, and shows that ScalarNcc vs
+// the CPU backend's NCC (different rounding, like the GPU's) stays within the tolerance the
+// GPU test asks for.
 void RunCudaPassesOnHost(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
                          PatchMatchResult* result) {
   schedule.Check();
   const std::vector<SourceView> sources = MakeSourceViews(problem);
-  PassParams params = MakePassParams(problem, schedule, sources.data());
-  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
-  ResetResult(W, H, result);
-  PixelState state{result->plane.data(), result->cost.data(), result->photo_cost.data(),
-                   result->geo_error.data(), result->view_mask.data()};
-  SetInitPass(schedule, &params);
-  uint32_t count = 0;
-  ForEachThread(
-      ImageLaunchLayout(W, H),
-      [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
-        return ImageThreadPixel(W, H, b, bd, t, u, v);
-      },
-      [&](int u, int v) {
-        InitializePixel<ScalarNcc>(params, state, problem.init_plane, problem.init_cost, u, v,
-                                   &count);
-      });
-  result->init_ncc_evaluations = count;
-  const LaunchLayout layout = CheckerboardLaunchLayout(W, H);
-  for (int it = 0; it < static_cast<int>(schedule.iterations.size()); ++it) {
-    count = 0;
-    for (int color = 0; color < 2; ++color) {
-      SetCheckerboardPass(schedule, it, color, &params);
-      ForEachThread(
-          layout,
-          [&](Dim2 b, Dim2 bd, Dim2 t, int* u, int* v) {
-            return CheckerboardThreadPixel(W, H, params.color, b, bd, t, u, v);
-          },
-          [&](int u, int v) { UpdatePixel<ScalarNcc>(params, state, u, v, &count); });
-    }
-    result->iterations.push_back(MakeIterationStats(schedule, it, count, 0.0));
+  const PassParams params = MakePassParams(problem, schedule, sources.data());
+  ResetResult(problem.ref_camera.width, problem.ref_camera.height, result);
+  const int total = static_cast<int>(schedule.iterations.size());
+  HostLaunch launch;
+  launch.state = PixelState{result->plane.data(), result->cost.data(), result->photo_cost.data(),
+                            result->geo_error.data(), result->view_mask.data()};
+  launch.init_plane = problem.init_plane;
+  launch.init_cost = problem.init_cost;
+  launch.counters.assign(NumNccCounters(total), 0);
+  LaunchPasses(schedule, params, &launch);
+  // Every mark once, in order: the events the CUDA launcher records.
+  ASSERT_EQ(launch.marks.size(), static_cast<size_t>(total + 1));
+  for (int k = 0; k <= total; ++k) EXPECT_EQ(launch.marks[k], k);
+  result->init_ncc_evaluations = launch.counters[kInitCounter];
+  for (int it = 0; it < total; ++it) {
+    result->iterations.push_back(
+        MakeIterationStats(schedule, it, launch.counters[IterationCounter(it)], 0.0));
   }
 }
 
