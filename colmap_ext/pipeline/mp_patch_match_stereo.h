@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/pipeline/patch_match_options.h"
 #include "kernels/patch_match.h"
 
@@ -50,9 +51,6 @@ struct MpPatchMatchRun {
   // on machines without a GPU. Results and files are the same either way.
   bool cpu_look_ahead = false;
 };
-
-// The kernels' float camera of a workspace view (same size, K, R, t).
-kernels::Camera ToKernelCamera(const DenseView& view);
 
 // Throws Error with a clear message on bad input; never leaves partial map files.
 // Uses mp-mvs's own I/O (MpMvsWorkspaceIo).

@@ -1,6 +1,6 @@
 #pragma once
 // Options of mp_patch_match_stereo: COLMAP's --PatchMatchStereo.* (those mp-mvs honours)
-// and the method's own --MPMVS.* (defaults: ALGORITHM.md §0).
+// and the method's own --MPMVS.* (defaults: docs/algorithm.md §0).
 #include <cstdint>
 #include <string>
 

@@ -137,4 +137,16 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
   return model;
 }
 
+std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera) {
+  std::vector<float> depth(prior.label.size(), 0.f);
+  for (size_t k = 0; k < prior.label.size(); ++k) {
+    if (!prior.label[k]) continue;
+    const float* p = &prior.plane[4 * k];
+    const kernels::Plane plane{{p[0], p[1], p[2]}, p[3]};
+    depth[k] = kernels::PlaneDepth(
+        plane, kernels::PixelRay(camera, float(k % camera.width), float(k / camera.width)));
+  }
+  return depth;
+}
+
 }  // namespace mpmvs

@@ -1,5 +1,5 @@
 #pragma once
-// Planar prior model (ACMP, as modified by MP-MVS; ALGORITHM.md §8, §0): reliable pixels
+// Planar prior model (ACMP, as modified by MP-MVS; docs/algorithm.md §8, §0): reliable pixels
 // per grid cell, 2-D Delaunay triangulation (CGAL), one plane per triangle, rasterised into
 // a per-pixel prior plane and label.
 #include <cstdint>
@@ -41,6 +41,9 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options);
+
+// The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
+std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);
 
 // Selected vertices only (exposed for tests).
 std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,

@@ -1,5 +1,5 @@
 #pragma once
-// The order of PatchMatch stages of mp_patch_match_stereo (ALGORITHM.md §0, §1):
+// The order of PatchMatch stages of mp_patch_match_stereo (docs/algorithm.md §0, §1):
 //   gp (default): photometric mPM -> geometric pass 1 -> planar prior (from pass 1) -> geometric pass 2
 //   pp (ACMP):    photometric mPM -> planar prior (photometric selection) -> geometric x2
 //   none:         photometric mPM -> geometric x2

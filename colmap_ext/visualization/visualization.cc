@@ -264,6 +264,15 @@ RgbImage NormalPicture(const FloatMap& normal, const std::string& title) {
   return WithTitle(body, title, FontScaleFor(normal.width));
 }
 
+void WriteDepthPicture(const std::string& path, const FloatMap& depth, double depth_min, double depth_max,
+                       const std::string& title) {
+  WriteRgbPng(path, DepthPicture(depth, depth_min, depth_max, title));
+}
+
+void WriteNormalPicture(const std::string& path, const FloatMap& normal, const std::string& title) {
+  WriteRgbPng(path, NormalPicture(normal, title));
+}
+
 RgbImage TitledPicture(const RgbImage& image, const std::string& title) {
   return WithTitle(image, title, FontScaleFor(image.width));
 }

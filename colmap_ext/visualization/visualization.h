@@ -48,6 +48,11 @@ RgbImage DepthPicture(const FloatMap& depth, double depth_min, double depth_max,
 // Camera-frame normal map as RGB = ((x, -y, -z) + 1) / 2 (camera-facing surfaces look
 // blue), invalid (0,0,0) black, with a title.
 RgbImage NormalPicture(const FloatMap& normal, const std::string& title);
+// DepthPicture / NormalPicture written as a PNG file at path.
+void WriteDepthPicture(const std::string& path, const FloatMap& depth, double depth_min, double depth_max,
+                       const std::string& title);
+void WriteNormalPicture(const std::string& path, const FloatMap& normal, const std::string& title);
+
 // Greyscale image with a title (e.g. the input photo).
 RgbImage TitledPicture(const RgbImage& image, const std::string& title);
 

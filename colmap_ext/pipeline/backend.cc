@@ -1,0 +1,60 @@
+#include "colmap_ext/pipeline/backend.h"
+
+#include <algorithm>
+#include <thread>
+
+#include "colmap_ext/util/logging.h"
+
+namespace mpmvs {
+
+Backend::Backend(const BackendOptions& options) : options_(options) {
+  std::string why;
+  const int device = options.gpu_index < 0 ? 0 : options.gpu_index;
+  if (kernels::CudaDeviceAvailable(device, &why)) {
+    kernels::CudaSessionOptions session;
+    session.gpu_index = device;
+    session.cache_size_bytes = options.cache_bytes;
+    cuda_ = std::make_unique<kernels::CudaSession>(session);
+    name_ = "CUDA device " + std::to_string(device);
+    LogInfo("CUDA device cache budget: " + std::to_string(cuda_->CacheBudgetBytes() >> 20) +
+            " MB (--PatchMatchStereo.cache_size, at most half the free device memory)");
+  } else {
+    const int threads = options.num_threads > 0
+                            ? options.num_threads
+                            : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    name_ = "CPU (" + std::to_string(threads) + " threads)";
+    LogInfo("No usable CUDA device (" + why + "): using the CPU backend, " + std::to_string(threads) +
+            " threads");
+  }
+}
+
+Backend::~Backend() = default;
+
+void Backend::Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
+                  kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next) {
+  if (cuda_) {
+    cuda_->Run(problem, schedule, result, next);
+  } else {
+    if (options_.cpu_look_ahead && next) next();
+    kernels::RunPatchMatchCpu(problem, schedule, result);
+  }
+  kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max,
+                                 options_.num_threads, result);
+}
+
+void Backend::LogCacheStats() const {
+  if (!cuda_) return;
+  const kernels::DeviceCacheStats s = cuda_->CacheStats();
+  LogInfo("CUDA device cache: " + std::to_string(s.misses) + " images/depth maps uploaded, " +
+          std::to_string(s.hits) + " found on the device, " + std::to_string(s.evictions) +
+          " evicted, peak " + std::to_string(s.peak_bytes >> 20) + " MB of " +
+          std::to_string(cuda_->CacheBudgetBytes() >> 20) + " MB; " +
+          std::to_string(s.uploaded_bytes >> 20) + " MB uploaded in all");
+  if (s.over_budget_problems > 0) {
+    LogWarning(std::to_string(s.over_budget_problems) +
+               " reference images needed more device memory for their images and depth maps "
+               "than the cache budget and ran over it; raise --PatchMatchStereo.cache_size");
+  }
+}
+
+}  // namespace mpmvs

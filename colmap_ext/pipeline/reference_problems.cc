@@ -1,0 +1,44 @@
+#include "colmap_ext/pipeline/reference_problems.h"
+
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
+
+namespace mpmvs {
+
+ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
+                                        const PatchMatchStereoOptions& colmap_options,
+                                        int max_source_images) {
+  const std::string cfg =
+      config_path.empty() ? JoinPaths(workspace.path, "stereo/patch-match.cfg") : config_path;
+  if (!FileExists(cfg)) ThrowFileError(cfg, "patch-match configuration not found");
+  ReferenceProblems problems;
+  for (const StereoProblem& spec : ReadPatchMatchConfig(cfg, workspace, colmap_options.min_triangulation_angle)) {
+    ReferenceProblem p;
+    p.ref = spec.ref;
+    p.src = spec.src;
+    if (static_cast<int>(p.src.size()) > max_source_images) p.src.resize(max_source_images);
+    const DenseView& view = workspace.views[p.ref];
+    if (colmap_options.depth_min > 0) {
+      p.depth_min = static_cast<float>(colmap_options.depth_min);
+      p.depth_max = static_cast<float>(colmap_options.depth_max);
+    } else {
+      p.depth_min = static_cast<float>(view.depth_min);
+      p.depth_max = static_cast<float>(view.depth_max);
+    }
+    if (p.src.empty()) {
+      LogWarning("skipping " + view.name + ": no source images (patch-match.cfg / shared sparse points)");
+      ++problems.num_skipped_no_sources;
+    } else if (!(p.depth_min > 0 && p.depth_max > p.depth_min)) {
+      LogWarning("skipping " + view.name +
+                 ": it sees no sparse points, so its depth range is unknown; set "
+                 "--PatchMatchStereo.depth_min and --PatchMatchStereo.depth_max");
+      ++problems.num_skipped_no_depth_range;
+    } else {
+      problems.runnable.push_back(p);
+    }
+  }
+  return problems;
+}
+
+}  // namespace mpmvs

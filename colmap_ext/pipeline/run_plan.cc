@@ -1,0 +1,65 @@
+#include "colmap_ext/pipeline/run_plan.h"
+
+#include <sstream>
+
+#include "colmap_ext/util/error.h"
+
+namespace mpmvs {
+namespace {
+
+PlanarPriorOptions MakePriorOptions(const MpMvsOptions& o) {
+  PlanarPriorOptions po;
+  po.cell_size = o.prior_cell_size;
+  po.points_per_cell = o.prior_points_per_cell;
+  po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
+  po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
+  po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
+  po.max_depth_jump = static_cast<float>(o.prior_max_depth_jump);
+  po.max_edge_fraction = static_cast<float>(o.prior_max_edge);
+  return po;
+}
+
+kernels::FilterParams MakeFilterParams(const PatchMatchStereoOptions& c) {
+  kernels::FilterParams filter;
+  filter.min_ncc = static_cast<float>(c.filter_min_ncc);
+  filter.min_triangulation_angle_deg = static_cast<float>(c.filter_min_triangulation_angle);
+  filter.min_num_consistent = c.filter_min_num_consistent;
+  filter.geom_max_error = static_cast<float>(c.filter_geom_consistency_max_cost);
+  return filter;
+}
+
+// COLMAP's gpu_index is a list ("0,1"); mp-mvs uses its first entry.
+int FirstGpuIndex(const std::string& gpu_index) {
+  std::stringstream ss(gpu_index);
+  std::string first;
+  std::getline(ss, first, ',');
+  return std::stoi(first);
+}
+
+}  // namespace
+
+RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
+                    bool cpu_look_ahead) {
+  std::string error;
+  if (!colmap_options.Check(&error) || !options.Check(&error)) throw Error(error);
+  RunPlan plan;
+  plan.pipeline = MakePipelinePlan(colmap_options, options);
+  plan.final_type = plan.pipeline.geometric_output >= 0 ? "geometric" : "photometric";
+  plan.prior = MakePriorOptions(options);
+  plan.filter = colmap_options.filter;
+  plan.filter_params = MakeFilterParams(colmap_options);
+  plan.cache_bytes = static_cast<size_t>(colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
+  plan.num_threads = colmap_options.num_threads;
+  plan.backend.gpu_index = FirstGpuIndex(colmap_options.gpu_index);
+  plan.backend.num_threads = colmap_options.num_threads;
+  plan.backend.cache_bytes = plan.cache_bytes;
+  plan.backend.cpu_look_ahead = cpu_look_ahead;
+  plan.chroma_weight = static_cast<float>(options.chroma_weight);
+  plan.max_source_images = options.max_source_images;
+  plan.overwrite = options.overwrite;
+  plan.write_pictures = options.write_pictures;
+  plan.write_consistency_graph = colmap_options.write_consistency_graph;
+  return plan;
+}
+
+}  // namespace mpmvs

@@ -1,0 +1,36 @@
+#pragma once
+// Everything one run of mp_patch_match_stereo needs, translated once from the command-line
+// options: the stages, the planar prior and output filter parameters, the backend and
+// cache settings.
+#include <cstddef>
+#include <string>
+
+#include "colmap_ext/pipeline/backend.h"
+#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/pipeline/planar_prior.h"
+#include "colmap_ext/pipeline/stage_plan.h"
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+
+struct RunPlan {
+  PipelinePlan pipeline;
+  std::string final_type;  // "geometric" or "photometric": the last maps written
+  PlanarPriorOptions prior;  // selection per stage: StagePlan::prior_geometric_selection
+  bool filter = false;       // COLMAP-style output filter on the written maps
+  kernels::FilterParams filter_params;
+  BackendOptions backend;
+  size_t cache_bytes = 0;  // --PatchMatchStereo.cache_size
+  int num_threads = -1;
+  float chroma_weight = 0;
+  int max_source_images = 0;
+  bool overwrite = false;
+  bool write_pictures = false;
+  bool write_consistency_graph = false;
+};
+
+// Checks the options (throws Error naming the bad one) and translates them.
+RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
+                    bool cpu_look_ahead);
+
+}  // namespace mpmvs

@@ -1,0 +1,110 @@
+#include "colmap_ext/pipeline/stage_reference.h"
+
+#include "colmap_ext/pipeline/kernel_camera.h"
+#include "colmap_ext/util/logging.h"
+
+namespace mpmvs {
+namespace {
+
+// The reference's and its sources' images and, in geometric stages, the sources' depth
+// maps of the input stage (a source without them is left out, with a warning).
+void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage, const DenseWorkspace& workspace,
+                         StageStore* store, float chroma_weight, StageReference* ref) {
+  const ReferenceProblem& p = *ref->problem;
+  kernels::PatchMatchProblem& problem = ref->pm;
+  auto ref_image = store->Image(p.ref);
+  ref->images.push_back(ref_image);
+  problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
+  if (chroma_weight > 0) {
+    ref->chroma = store->ChromaGuide(p.ref);
+    if (!ref->chroma->empty()) problem.ref_image.chroma = ref->chroma->data();
+  }
+  if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
+  for (int src : p.src) {
+    kernels::PatchMatchSource source;
+    source.camera = ToKernelCamera(workspace.views[src]);
+    source.image_id = static_cast<uint32_t>(src);
+    if (stage.schedule.geometric) {
+      if (!store->HasState(src, input_stage)) {
+        LogWarning(workspace.views[p.ref].name + ": source " + workspace.views[src].name + " has no " +
+                   input_stage + " result; left out of this stage");
+        continue;
+      }
+      ref->depths.push_back(store->SourceDepth(stage.input, src));
+      source.depth_map = ref->depths.back()->data();
+    }
+    auto img = store->Image(src);
+    ref->images.push_back(img);
+    source.image = kernels::ImageView{img->data.data(), img->width, img->height};
+    problem.sources.push_back(source);
+  }
+}
+
+void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWorkspace& workspace,
+                    StageReference* ref) {
+  const ReferenceProblem& p = *ref->problem;
+  PlanarPriorOptions options = plan.prior;
+  options.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
+                                                      : PlanarPriorOptions::Selection::kPhotometric;
+  kernels::PatchMatchProblem& problem = ref->pm;
+  const std::vector<float> depth = ResultDepth(ref->input, problem.ref_camera, p.depth_min, p.depth_max);
+  ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
+                                p.depth_min, p.depth_max, options);
+  problem.prior_plane = ref->prior.plane.data();
+  problem.prior_label = ref->prior.label.data();
+  size_t labelled = 0;
+  for (uint8_t l : ref->prior.label) labelled += l;
+  LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
+          " vertices, " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
+          std::to_string(ref->prior.num_rejected_triangles) + " rejected), " +
+          std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
+}
+
+}  // namespace
+
+std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const DenseWorkspace& workspace,
+                                                      StageStore* store, int stage_index,
+                                                      const ReferenceProblem& p) {
+  const StagePlan& stage = plan.pipeline.stages[stage_index];
+  auto ref = std::make_unique<StageReference>();
+  ref->problem = &p;
+  if (store->FinalOutputsExist(p.ref, plan.final_type) && !plan.overwrite) {
+    ref->action = StageReference::Action::kFinalMapsExist;
+    return ref;
+  }
+  const bool writes_photometric = stage_index == plan.pipeline.photometric_output;
+  const bool writes_geometric = stage_index == plan.pipeline.geometric_output;
+  kernels::PatchMatchProblem& problem = ref->pm;
+  problem.image_id = static_cast<uint32_t>(p.ref);
+  problem.ref_image_id = static_cast<uint32_t>(p.ref);  // device cache ids: view indices
+  problem.ref_camera = ToKernelCamera(workspace.views[p.ref]);
+  problem.depth_min = p.depth_min;
+  problem.depth_max = p.depth_max;
+
+  const bool have_state = store->HasState(p.ref, stage.name) && !plan.overwrite;
+  ref->filter_here =
+      plan.filter && (writes_geometric || (writes_photometric && plan.pipeline.geometric_output < 0));
+  // Images and source depth maps: needed to compute the stage, and by the output filter.
+  const std::string input_stage = stage.input >= 0 ? plan.pipeline.stages[stage.input].name : "";
+  if (!have_state || ref->filter_here) {
+    AddImagesAndSources(stage, input_stage, workspace, store, plan.chroma_weight, ref.get());
+  }
+  if (have_state) {
+    ref->action = StageReference::Action::kResume;
+    return ref;
+  }
+  if (problem.sources.empty()) {
+    ref->action = StageReference::Action::kNoSources;
+    return ref;
+  }
+  ref->action = StageReference::Action::kCompute;
+  if (stage.input >= 0) {
+    ref->input = store->ReadState(p.ref, input_stage);
+    problem.init_plane = ref->input.plane.data();
+    problem.init_cost = ref->input.cost.data();
+  }
+  if (stage.kind == StageKind::kPlanarPrior) AddPlanarPrior(stage, plan, workspace, ref.get());
+  return ref;
+}
+
+}  // namespace mpmvs
