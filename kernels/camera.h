@@ -1,5 +1,5 @@
 #pragma once
-// Pinhole cameras, plane hypotheses and the plane-induced homography (ALGORITHM.md §2).
+// Pinhole cameras, plane hypotheses and the plane-induced homography (docs/algorithm.md §2).
 // Pixel convention of COLMAP's MVS: pixel (col,row) is image coordinate (col,row).
 #include "kernels/vec3.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Per-run median filter of depths (ALGORITHM.md 9.1, plane-aware: kernels/DESIGN.md item 12).
+// Per-run median filter of depths (docs/algorithm.md §9.1, plane-aware: kernels/DESIGN.md item 12).
 // One pixel of one checkerboard colour; its 20 neighbours have the other colour, so all
 // pixels of a colour can be filtered in parallel.
 #include "kernels/patch_match_pixel.h"

@@ -1,6 +1,6 @@
 #pragma once
 // Bilateral-weighted NCC over a sparse 6x6 window warped by a plane homography
-// (ALGORITHM.md §3, §4). The reference side (weights, mean, variance) depends only on the
+// (docs/algorithm.md §3, §4). The reference side (weights, mean, variance) depends only on the
 // pixel and the window scale, so it is computed once per pixel update (RefPatch) and reused
 // for every hypothesis and source view.
 #include <math.h>

@@ -1,7 +1,7 @@
 #pragma once
 // The per-pixel PatchMatch update: hypothesis initialisation, checkerboard propagation with
 // multi-hypothesis view selection, random refinement, geometric consistency and the planar
-// prior score (ALGORITHM.md §2-§8, with the corrections listed in kernels/DESIGN.md).
+// prior score (docs/algorithm.md §2-§8, with the corrections listed in kernels/DESIGN.md).
 // Written once for host and device; the backends only decide which pixels run where.
 #include <math.h>
 
@@ -118,7 +118,7 @@ MPMVS_HD MPMVS_FORCE_INLINE bool DepthInRange(const PassParams& params, float de
 // Costs
 
 // Forward-backward reprojection error (px) of the point at `depth` on the ray of (u, v)
-// through source view s and its depth map, clamped to max_error (ALGORITHM.md §7).
+// through source view s and its depth map, clamped to max_error (docs/algorithm.md §7).
 MPMVS_HD inline float GeometricError(const PassParams& params, const SourceView& src, int u, int v,
                                      Vec3 ray, float depth) {
   const float max_error = params.geom_max_error;
@@ -159,7 +159,7 @@ struct WeightedCost {
   float geo;
 };
 
-// View-weighted cost of a plane (ALGORITHM.md §3 step 6, §7).
+// View-weighted cost of a plane (docs/algorithm.md §3 step 6, §7).
 template <class Ncc>
 MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPatch& patch,
                                            const float* weights, int u, int v, Vec3 ray,
@@ -199,7 +199,7 @@ MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float cost, const Pla
 // Initialisation
 
 // Costs of `plane` in every view; cost = mean of the top_k smallest valid ones, mask = views
-// at or below the k-th smallest (ALGORITHM.md §2).
+// at or below the k-th smallest (docs/algorithm.md §2).
 template <class Ncc>
 MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch, int u, int v,
                                  Vec3 ray, const Plane& plane, float* cost, float* photo_cost,

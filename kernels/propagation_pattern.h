@@ -1,5 +1,5 @@
 #pragma once
-// Checkerboard propagation patterns as data (ALGORITHM.md §5): 8 regions of pixel offsets,
+// Checkerboard propagation patterns as data (docs/algorithm.md §5): 8 regions of pixel offsets,
 // each of odd parity (du+dv odd) so that every sample has the other checkerboard colour.
 // Per region the neighbour with the lowest stored cost is taken as candidate.
 #include "kernels/common.h"

@@ -1,7 +1,7 @@
 #pragma once
 // Counter-based random numbers: every draw is a hash of (seed, image, pixel, iteration,
 // stream position), so the CPU and CUDA backends draw identical streams regardless of
-// thread count or scheduling (ALGORITHM.md §0).
+// thread count or scheduling (docs/algorithm.md §0).
 #include "kernels/common.h"
 
 namespace mpmvs {

@@ -1,5 +1,5 @@
 #pragma once
-// ACMH multi-hypothesis joint view selection (ALGORITHM.md §3): from the per-view costs of
+// ACMH multi-hypothesis joint view selection (docs/algorithm.md §3): from the per-view costs of
 // the 8 propagated candidates, each source view gets a probability of being a good view;
 // 15 Monte-Carlo draws turn the probabilities into integer view weights.
 #include <math.h>

@@ -60,7 +60,7 @@ struct FusedPoint {
   uint8_t rgb[3];
 };
 
-// Reads exactly the layout COLMAP 3.8's stereo_fusion writes (COLMAP_INTERFACE.md §2).
+// Reads exactly the layout COLMAP 3.8's stereo_fusion writes (docs/colmap_interface.md §2).
 std::vector<FusedPoint> ReadFusedPly(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   EXPECT_TRUE(file.is_open()) << path;

@@ -1,4 +1,4 @@
-// Evaluation (EVALUATION.md): depth-map scores with known fractions of wrong pixels,
+// Evaluation (docs/evaluation.md): depth-map scores with known fractions of wrong pixels,
 // point-cloud scores with known shifts/removals, GT against itself, PLY I/O, the
 // agreement of workspaces without GT and the evaluate/compare commands end to end.
 #include <gtest/gtest.h>

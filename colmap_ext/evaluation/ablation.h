@@ -2,7 +2,7 @@
 // The paper's ablation (its Table 1): ACMH, mPM+ACMH, mPM+rs, mPM+ACMH+pp, mPM+rs+pp,
 // mPM+rs+gp, each run as mp_patch_match_stereo with the matching --MPMVS options on a copy
 // of one workspace, fused by `colmap stereo_fusion` and scored against ground truth
-// (EVALUATION.md).
+// (docs/evaluation.md).
 #include <string>
 #include <vector>
 

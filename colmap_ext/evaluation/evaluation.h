@@ -1,5 +1,5 @@
 #pragma once
-// Quality scores against ground truth, exactly as /work/shared/design/EVALUATION.md
+// Quality scores against ground truth, exactly as docs/evaluation.md
 // defines them:
 //  * depth maps: per image and pooled, at relative tolerances tau (1 %, 2 %):
 //    accuracy = good / (GT pixels with an estimate), completeness = good / GT pixels,

@@ -74,7 +74,7 @@ void CheckDenseWorkspaceFolders(const std::string& path);
 // float cameras and points (mp-mvs's reader, COLMAP's mvs::Model) gets identical values.
 void ComputeDepthRanges(DenseWorkspace* workspace);
 
-// Parses patch-match.cfg (COLMAP_INTERFACE.md §4): lines trimmed, '#' and empty lines
+// Parses patch-match.cfg (docs/colmap_interface.md §4): lines trimmed, '#' and empty lines
 // skipped; alternating reference NAME and a source line: "__all__", "__auto__, N" or a
 // comma-separated list of names. Unknown names, a dangling reference or a bad N -> Error
 // naming the cfg file and line. __auto__ uses SelectSourcesAuto. References with zero

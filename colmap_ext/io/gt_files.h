@@ -1,5 +1,5 @@
 #pragma once
-// Naming of ground-truth files beside a dataset (EVALUATION.md): gt/depth_<stem>.pfm and
+// Naming of ground-truth files beside a dataset (docs/evaluation.md §1): gt/depth_<stem>.pfm and
 // gt/untextured_<stem>.png, where <stem> is the image name without folders and extension.
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// COLMAP's dense map files (`mvs::Mat<float>` layout, COLMAP_INTERFACE.md §2):
+// COLMAP's dense map files (`mvs::Mat<float>` layout, docs/colmap_interface.md §2):
 // ASCII header "W&H&C&" then W*H*C little-endian float32, planar (channel-major),
 // each plane row-major. Used for depth maps (C=1, camera z-depth, 0 = invalid) and normal
 // maps (C=3, unit normal in the camera frame, (0,0,0) = invalid).

@@ -27,7 +27,7 @@ struct CameraModelInfo {
   int num_params;
 };
 
-// COLMAP 3.8 knows ids 0-10; 11-17 exist in newer COLMAP (COLMAP_INTERFACE.md §3) and are
+// COLMAP 3.8 knows ids 0-10; 11-17 exist in newer COLMAP (docs/colmap_interface.md §3) and are
 // listed so such models still load (the dense workspace then rejects them as distorted).
 constexpr CameraModelInfo kCameraModels[] = {
     {0, "SIMPLE_PINHOLE", 3},

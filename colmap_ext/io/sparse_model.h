@@ -1,6 +1,6 @@
 #pragma once
 // COLMAP sparse model (cameras, images, points3D) in plain data types, read from and
-// written to COLMAP's binary (.bin) and text (.txt) layouts (COLMAP_INTERFACE.md §3).
+// written to COLMAP's binary (.bin) and text (.txt) layouts (docs/colmap_interface.md §3).
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -17,7 +17,7 @@ bool ColmapAvailable();
 int RunColmap(const std::vector<std::string>& args, const std::string& log_path);
 
 // colmap stereo_fusion on a COLMAP workspace with deterministic settings (one thread) and
-// min_num_pixels = min(5, num_images - 1) as EVALUATION.md prescribes. Throws Error naming
+// min_num_pixels = min(5, num_images - 1) as docs/evaluation.md §3 prescribes. Throws Error naming
 // the log file when fusion fails.
 void RunStereoFusion(const std::string& workspace_path, const std::string& input_type,
                      const std::string& output_path, int num_images, const std::string& log_path);
