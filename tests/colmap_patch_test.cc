@@ -1,4 +1,5 @@
-// patches/colmap-mp_patch_match_stereo.patch without COLMAP's sources (CI has none): the
+// The COLMAP patches (patches/colmap-mp_patch_match_stereo.patch for 3.12.x - 4.0.x and
+// patches/colmap-4.1.x-head/ for 4.1.x and the development head) without COLMAP's sources (CI has none): the
 // patch parses with `git apply`, touches exactly src/colmap/exe/colmap.cc and
 // src/colmap/exe/CMakeLists.txt, only adds lines, names things that exist in this
 // repository, applies to the pre-image it describes, and patches/check_patch.sh accepts that
@@ -19,7 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kPatch = std::string(MPMVS_SOURCE_DIR) + "/patches/colmap-mp_patch_match_stereo.patch";
 const std::string kCheckScript = std::string(MPMVS_SOURCE_DIR) + "/patches/check_patch.sh";
 
 bool HaveGit() { return test::RunCommand("git --version > /dev/null 2>&1") == 0; }
@@ -80,7 +80,17 @@ void WritePreImageTree(const std::string& root, const std::map<std::string, File
   }
 }
 
-TEST(ColmapPatch, ParsesAndTouchesExactlyTheTwoCommandFiles) {
+// One run of every test per patch variant (path relative to patches/).
+class ColmapPatch : public ::testing::TestWithParam<std::string> {
+ protected:
+  const std::string kPatch = std::string(MPMVS_SOURCE_DIR) + "/patches/" + GetParam();
+};
+
+INSTANTIATE_TEST_SUITE_P(Variants, ColmapPatch,
+                         ::testing::Values("colmap-mp_patch_match_stereo.patch",
+                                           "colmap-4.1.x-head/colmap-mp_patch_match_stereo.patch"));
+
+TEST_P(ColmapPatch, ParsesAndTouchesExactlyTheTwoCommandFiles) {
   MPMVS_REQUIRE_GIT();
   ASSERT_TRUE(fs::exists(kPatch)) << kPatch;
   test::TempDir tmp;
@@ -107,7 +117,7 @@ TEST(ColmapPatch, ParsesAndTouchesExactlyTheTwoCommandFiles) {
   EXPECT_NE(test::ReadTextFile(tmp / "stat.txt").find("2 files changed"), std::string::npos);
 }
 
-TEST(ColmapPatch, NamesAHeaderFunctionAndTargetThatExist) {
+TEST_P(ColmapPatch, NamesAHeaderFunctionAndTargetThatExist) {
   const std::map<std::string, FileHunks> files = ParsePatch(test::ReadTextFile(kPatch));
   ASSERT_EQ(files.size(), 2u);
   std::string cc, cmake;
@@ -126,7 +136,7 @@ TEST(ColmapPatch, NamesAHeaderFunctionAndTargetThatExist) {
   EXPECT_NE(config.find("add_library(mpmvs::mpmvs_colmap_command INTERFACE IMPORTED)"), std::string::npos);
 }
 
-TEST(ColmapPatch, AppliesToItsPreImageAndCheckScriptDetectsDrift) {
+TEST_P(ColmapPatch, AppliesToItsPreImageAndCheckScriptDetectsDrift) {
   MPMVS_REQUIRE_GIT();
   const std::map<std::string, FileHunks> files = ParsePatch(test::ReadTextFile(kPatch));
   ASSERT_EQ(files.size(), 2u);
@@ -142,13 +152,15 @@ TEST(ColmapPatch, AppliesToItsPreImageAndCheckScriptDetectsDrift) {
   EXPECT_EQ(test::RunCommand(check + "'" + (tmp / "good") + "'", tmp / "applied.log"), 0)
       << test::ReadTextFile(tmp / "applied.log");
 
-  // COLMAP moved: one context line of colmap.cc changed -> loud failure.
+  // COLMAP moved: the include of the MVS commands, a context line of colmap.cc, changed ->
+  // loud failure.
   WritePreImageTree(tmp / "drift", files);
   const std::string cc_path = tmp / "drift/src/colmap/exe/colmap.cc";
   std::string cc = test::ReadTextFile(cc_path);
-  const size_t pos = cc.find("#include \"colmap/exe/mvs.h\"");
+  const std::string mvs_include = "#include \"colmap/exe/mvs.h\"";
+  const size_t pos = cc.find(mvs_include);
   ASSERT_NE(pos, std::string::npos);
-  cc.insert(pos, "#if defined(COLMAP_MVS_ENABLED)\n");
+  cc.replace(pos, mvs_include.size(), "#include \"colmap/exe/dense.h\"");
   std::ofstream(cc_path) << cc;
   EXPECT_EQ(test::RunCommand(check + "'" + (tmp / "drift") + "'", tmp / "drift.log"), 1)
       << test::ReadTextFile(tmp / "drift.log");

@@ -33,6 +33,20 @@ std::string PathString(const PathLike& path) {
   return std::filesystem::path(path).string();
 }
 
+// Red channel (the grey value) of one pixel. COLMAP 4.1 returns the pixel as
+// std::optional<BitmapColor>; 3.12 - 4.0 fill a BitmapColor through a pointer. The int/long
+// tag makes the 4.1 form win where it compiles.
+template <typename BitmapT>
+auto GreyPixel(const BitmapT& bitmap, int x, int y, int) -> decltype(bitmap.GetPixel(x, y)->r) {
+  return bitmap.GetPixel(x, y)->r;
+}
+template <typename BitmapT>
+uint8_t GreyPixel(const BitmapT& bitmap, int x, int y, long) {
+  colmap::BitmapColor<uint8_t> color;
+  bitmap.GetPixel(x, y, &color);
+  return color.r;
+}
+
 class ColmapWorkspaceIo : public WorkspaceIo {
  public:
   std::string Name() const override { return colmap::GetVersionInfo() + " mvs::Workspace"; }
@@ -159,11 +173,9 @@ class ColmapWorkspaceIo : public WorkspaceIo {
     gray.width = view.width;
     gray.height = view.height;
     gray.data.resize(static_cast<size_t>(gray.width) * gray.height);
-    colmap::BitmapColor<uint8_t> color;
     for (int row = 0; row < gray.height; ++row) {
       for (int col = 0; col < gray.width; ++col) {
-        bitmap.GetPixel(col, row, &color);
-        gray.data[static_cast<size_t>(row) * gray.width + col] = color.r;
+        gray.data[static_cast<size_t>(row) * gray.width + col] = GreyPixel(bitmap, col, row, 0);
       }
     }
     return gray;
