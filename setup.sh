@@ -8,7 +8,7 @@ cd "$(dirname "$0")"
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libboost-program-options-dev libcgal-dev libgmp-dev libmpfr-dev
-  libfreeimage-dev libnanoflann-dev
+  libfreeimage-dev libnanoflann-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap
 )

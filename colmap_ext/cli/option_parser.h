@@ -1,11 +1,18 @@
 #pragma once
-// COLMAP-style command-line options: "--Section.name value" pairs bound to typed fields of
-// plain option structs. Unknown options, missing values and bad values are errors that
-// list what is valid. Booleans accept 0/1/true/false like COLMAP.
+// COLMAP-style command-line options: "--Section.name value" (or "--Section.name=value")
+// pairs bound to typed fields of plain option structs, parsed with Boost.Program_options
+// like COLMAP's own option manager. Unknown options, missing values and bad values are
+// errors that name the option; booleans accept 0/1/true/false like COLMAP.
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+namespace boost {
+namespace program_options {
+class options_description;
+}  // namespace program_options
+}  // namespace boost
 
 namespace mpmvs {
 
@@ -23,23 +30,28 @@ class OptionParser {
 
   // args exclude the program and command names. Throws Error on unknown options, missing
   // values, unparsable values and missing required options. Returns false when help
-  // (-h/--help) was asked for.
+  // (-h/--help) was asked for. An option given twice takes its last value, with a warning.
   bool Parse(const std::vector<std::string>& args);
 
-  // Warnings produced for ignored options during Parse.
+  // Warnings of the last Parse: ignored options and options given more than once.
   const std::vector<std::string>& Warnings() const { return warnings_; }
-  // One line per option: name, default (current value) and help.
+  // One entry per option: name, default (current value) and help.
   std::string Help() const;
 
  private:
   struct Option {
-    std::string help;
-    std::string default_text;
+    std::string help;          // for an ignored option: its hint
+    std::string value_name;    // shown in the help: "int", "0|1", ...
+    std::string default_text;  // shown in the help when not empty
     bool required = false;
     bool ignored = false;
     std::function<bool(const std::string&)> set;  // false on a bad value
   };
   void AddOption(const std::string& name, Option option);
+  // The options in the order they were added; every value is taken as text and converted
+  // by Option::set, so the accepted forms are exactly ours (not lexical_cast's).
+  void Describe(boost::program_options::options_description* description) const;
+
   std::map<std::string, Option> options_;
   std::vector<std::string> order_;
   std::vector<std::string> warnings_;

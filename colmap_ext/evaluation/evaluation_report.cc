@@ -5,12 +5,13 @@
 #include <cstdio>
 #include <iostream>
 
+#include <nlohmann/json.hpp>
+
 #include "colmap_ext/io/gt_files.h"
 #include "colmap_ext/io/image_io.h"
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/sparse_model.h"
 #include "colmap_ext/util/file_util.h"
-#include "colmap_ext/util/json_writer.h"
 #include "colmap_ext/visualization/visualization.h"
 
 namespace mpmvs {
@@ -58,26 +59,30 @@ std::string DepthRow(const std::string& name, const DepthPixelScore& s, bool has
   return row;
 }
 
-void DepthScoreJson(JsonWriter* j, const DepthPixelScore& s) {
-  j->BeginObject();
-  j->Field("num_gt_pixels", s.num_gt).Field("num_estimated_pixels", s.num_estimated);
-  j->Field("median_relative_error", s.median_rel_error);
-  j->Key("tolerances").BeginArray();
+// nlohmann's ordered_json keeps the keys in the order written (the schema's order);
+// non-finite numbers are written as null.
+using Json = nlohmann::ordered_json;
+
+Json DepthScoreJson(const DepthPixelScore& s) {
+  Json tolerances = Json::array();
   for (const DepthScoreAtTolerance& t : s.at) {
-    j->BeginObject();
-    j->Field("tolerance", t.tolerance).Field("num_good", t.num_good);
-    j->Field("accuracy", t.accuracy).Field("completeness", t.completeness).Field("f1", t.f1);
-    j->EndObject();
+    tolerances.push_back({{"tolerance", t.tolerance}, {"num_good", t.num_good},
+                          {"accuracy", t.accuracy}, {"completeness", t.completeness},
+                          {"f1", t.f1}});
   }
-  j->EndArray();
-  j->EndObject();
+  return {{"num_gt_pixels", s.num_gt},
+          {"num_estimated_pixels", s.num_estimated},
+          {"median_relative_error", s.median_rel_error},
+          {"tolerances", tolerances}};
 }
 
-void ContextJson(JsonWriter* j, const ReportContext& context) {
-  j->Field("command", context.command);
-  j->Field("commit", context.commit.empty() ? std::string("unknown") : context.commit);
-  j->Field("protocol", "EVALUATION.md (depth: relative tolerances; cloud: ETH3D-style)");
+Json ContextJson(const ReportContext& context) {
+  return {{"command", context.command},
+          {"commit", context.commit.empty() ? std::string("unknown") : context.commit},
+          {"protocol", "EVALUATION.md (depth: relative tolerances; cloud: ETH3D-style)"}};
 }
+
+std::string Dump(const Json& j) { return j.dump(2) + "\n"; }
 
 FloatMap SampleOnto(const FloatMap& map, int width, int height, int channel) {
   FloatMap out(width, height, 1);
@@ -229,96 +234,63 @@ std::string FormatAgreementTable(const std::vector<std::string>& labels,
 
 std::string EvaluationJson(const std::vector<WorkspaceEvaluation>& evaluations,
                            const ReportContext& context) {
-  JsonWriter j;
-  j.BeginObject();
-  ContextJson(&j, context);
-  j.Key("workspaces").BeginArray();
+  Json j = ContextJson(context);
+  Json& workspaces = j["workspaces"] = Json::array();
   for (const WorkspaceEvaluation& e : evaluations) {
-    j.BeginObject();
-    j.Field("label", e.label).Field("workspace_path", e.workspace_path).Field("gt_dir", e.gt_dir);
-    j.Key("depth").BeginObject();
-    j.Field("input_type", e.depth.input_type);
-    j.NumberArray("tolerances", e.depth.tolerances);
-    j.Key("pooled");
-    DepthScoreJson(&j, e.depth.pooled);
-    if (e.depth.has_masks) {
-      j.Key("pooled_untextured");
-      DepthScoreJson(&j, e.depth.pooled_untextured);
-    }
-    j.Key("images").BeginArray();
+    Json depth = {{"input_type", e.depth.input_type},
+                  {"tolerances", e.depth.tolerances},
+                  {"pooled", DepthScoreJson(e.depth.pooled)}};
+    if (e.depth.has_masks) depth["pooled_untextured"] = DepthScoreJson(e.depth.pooled_untextured);
+    Json& images = depth["images"] = Json::array();
     for (const DepthImageScore& s : e.depth.images) {
-      j.BeginObject();
-      j.Field("name", s.name).Field("has_estimate", s.has_estimate);
-      j.Key("all");
-      DepthScoreJson(&j, s.all);
-      if (s.has_mask) {
-        j.Key("untextured");
-        DepthScoreJson(&j, s.untextured);
-      }
-      j.EndObject();
+      Json image = {{"name", s.name}, {"has_estimate", s.has_estimate}, {"all", DepthScoreJson(s.all)}};
+      if (s.has_mask) image["untextured"] = DepthScoreJson(s.untextured);
+      images.push_back(std::move(image));
     }
-    j.EndArray();
-    j.EndObject();
+    Json w = {{"label", e.label}, {"workspace_path", e.workspace_path}, {"gt_dir", e.gt_dir},
+              {"depth", std::move(depth)}};
     if (e.has_cloud) {
       const PointCloudEvaluation& c = e.cloud;
-      j.Key("point_cloud").BeginObject();
-      j.Field("fused_path", c.fused_path).Field("num_points", c.num_points);
-      j.Field("num_observed_points", c.num_observed).Field("num_gt_points", c.num_gt_points);
-      j.Field("median_gt_depth", c.median_gt_depth);
-      j.Key("tolerances").BeginArray();
+      Json tolerances = Json::array();
       for (const CloudScoreAtTolerance& t : c.at) {
-        j.BeginObject();
-        j.Field("relative_tolerance", t.relative_tolerance).Field("tolerance", t.tolerance);
-        j.Field("accuracy", t.accuracy).Field("completeness", t.completeness).Field("f1", t.f1);
-        j.EndObject();
+        tolerances.push_back({{"relative_tolerance", t.relative_tolerance}, {"tolerance", t.tolerance},
+                              {"accuracy", t.accuracy}, {"completeness", t.completeness},
+                              {"f1", t.f1}});
       }
-      j.EndArray();
-      j.EndObject();
+      w["point_cloud"] = {{"fused_path", c.fused_path},
+                          {"num_points", c.num_points},
+                          {"num_observed_points", c.num_observed},
+                          {"num_gt_points", c.num_gt_points},
+                          {"median_gt_depth", c.median_gt_depth},
+                          {"tolerances", std::move(tolerances)}};
     }
-    j.EndObject();
+    workspaces.push_back(std::move(w));
   }
-  j.EndArray();
-  j.EndObject();
-  return j.str();
+  return Dump(j);
 }
 
 std::string AgreementJson(const std::vector<std::string>& labels,
                           const std::vector<PairAgreement>& pairs, double tolerance,
                           const std::string& input_type, const ReportContext& context) {
-  JsonWriter j;
-  j.BeginObject();
-  ContextJson(&j, context);
-  j.Field("input_type", input_type).Field("tolerance", tolerance);
-  j.Key("labels").BeginArray();
-  for (const std::string& l : labels) j.String(l);
-  j.EndArray();
-  auto counts = [&](const AgreementCounts& c) {
-    j.BeginObject();
-    j.Field("num_pixels", c.num_pixels).Field("num_a", c.num_a).Field("num_b", c.num_b);
-    j.Field("num_both", c.num_both).Field("num_agree", c.num_agree);
-    j.Field("agree_share", c.AgreeShare());
-    j.EndObject();
+  auto counts = [](const AgreementCounts& c) -> Json {
+    return {{"num_pixels", c.num_pixels}, {"num_a", c.num_a},         {"num_b", c.num_b},
+            {"num_both", c.num_both},     {"num_agree", c.num_agree}, {"agree_share", c.AgreeShare()}};
   };
-  j.Key("pairs").BeginArray();
+  Json j = ContextJson(context);
+  j["input_type"] = input_type;
+  j["tolerance"] = tolerance;
+  j["labels"] = labels;
+  Json& pairs_json = j["pairs"] = Json::array();
   for (const PairAgreement& p : pairs) {
-    j.BeginObject();
-    j.Field("a", labels[p.a]).Field("b", labels[p.b]);
-    j.Key("pooled");
-    counts(p.pooled);
-    j.Key("images").BeginArray();
+    Json images = Json::array();
     for (const ImageAgreement& ia : p.images) {
-      j.BeginObject();
-      j.Field("name", ia.name).Field("present_a", ia.present_a).Field("present_b", ia.present_b);
-      j.Key("counts");
-      counts(ia.counts);
-      j.EndObject();
+      images.push_back({{"name", ia.name}, {"present_a", ia.present_a},
+                        {"present_b", ia.present_b}, {"counts", counts(ia.counts)}});
     }
-    j.EndArray();
-    j.EndObject();
+    pairs_json.push_back({{"a", labels[p.a]}, {"b", labels[p.b]}, {"pooled", counts(p.pooled)},
+                          {"images", std::move(images)}});
   }
-  j.EndArray();
-  j.EndObject();
-  return j.str();
+  return Dump(j);
 }
 
 void WriteJsonFile(const std::string& path, const std::string& json) {

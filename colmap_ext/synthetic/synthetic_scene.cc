@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <nlohmann/json.hpp>
+
 #include "colmap_ext/io/gt_files.h"
 #include "colmap_ext/io/image_io.h"
 #include "colmap_ext/io/mat_io.h"
@@ -11,7 +13,6 @@
 #include "colmap_ext/synthetic/synthetic_sparse.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
-#include "colmap_ext/util/json_writer.h"
 
 namespace mpmvs {
 namespace {
@@ -57,47 +58,49 @@ void WriteTextFile(const std::string& path, const std::string& text) {
 }
 
 std::string SceneInfoJson(const SyntheticScene& scene) {
+  // ordered_json: keys stay in the order written here.
+  using Json = nlohmann::ordered_json;
   const SyntheticSceneOptions& o = scene.options;
-  JsonWriter j;
-  j.BeginObject();
-  j.Field("generator", "mp-mvs generate_scene");
-  j.Key("options").BeginObject();
-  j.Field("scene", o.scene).Field("width", o.width).Field("height", o.height);
-  j.Field("num_views", o.num_views).Field("seed", o.seed).Field("noise_sigma", o.noise_sigma);
-  j.Field("supersampling", o.supersampling).Field("blur_sigma", o.blur_sigma);
-  j.Field("exposure_variation", o.exposure_variation).Field("plane_tilt_deg", o.plane_tilt_deg);
-  j.Field("max_sparse_points", o.max_sparse_points).Field("sparse_noise_px", o.sparse_noise_px);
-  j.EndObject();
-  j.Field("num_sparse_points", static_cast<int64_t>(scene.model.points.size()));
-  j.Field("pixel_convention",
-          "depth-map pixel (col,row) is centred at image coordinate (col,row); sparse "
-          "observations use x = col + 0.5");
-  if (!scene.plane_view_angles_deg.empty()) {
-    j.NumberArray("plane_view_angles_deg", scene.plane_view_angles_deg);
-  }
-  j.Key("views").BeginArray();
+  Json j = {{"generator", "mp-mvs generate_scene"},
+            {"options",
+             {{"scene", o.scene},
+              {"width", o.width},
+              {"height", o.height},
+              {"num_views", o.num_views},
+              {"seed", o.seed},
+              {"noise_sigma", o.noise_sigma},
+              {"supersampling", o.supersampling},
+              {"blur_sigma", o.blur_sigma},
+              {"exposure_variation", o.exposure_variation},
+              {"plane_tilt_deg", o.plane_tilt_deg},
+              {"max_sparse_points", o.max_sparse_points},
+              {"sparse_noise_px", o.sparse_noise_px}}},
+            {"num_sparse_points", scene.model.points.size()},
+            {"pixel_convention",
+             "depth-map pixel (col,row) is centred at image coordinate (col,row); sparse "
+             "observations use x = col + 0.5"}};
+  if (!scene.plane_view_angles_deg.empty()) j["plane_view_angles_deg"] = scene.plane_view_angles_deg;
+  Json& views = j["views"] = Json::array();
   for (const SyntheticView& v : scene.views) {
     const SyntheticCamera& c = v.camera;
-    j.BeginObject();
-    j.Field("name", v.name);
-    j.NumberArray("K_fx_fy_cx_cy", {c.fx, c.fy, c.cx, c.cy});
     const Eigen::Vector3d center = c.Center();
-    j.NumberArray("center", {center.x(), center.y(), center.z()});
-    j.NumberArray("R", {c.R(0, 0), c.R(0, 1), c.R(0, 2), c.R(1, 0), c.R(1, 1), c.R(1, 2),
-                        c.R(2, 0), c.R(2, 1), c.R(2, 2)});
-    j.NumberArray("t", {c.t.x(), c.t.y(), c.t.z()});
-    j.Field("gain", v.gain).Field("offset", v.offset);
-    j.Field("gt_valid_fraction", v.stats.gt_valid_fraction);
-    j.Field("untextured_fraction", v.stats.untextured_fraction);
-    j.NumberArray("gt_depth_range", {v.stats.gt_depth_min, v.stats.gt_depth_max});
-    j.Field("num_sparse_points", v.stats.num_sparse_points);
-    j.NumberArray("sparse_depth_range", {v.stats.sparse_depth_min, v.stats.sparse_depth_max});
-    j.Field("gt_in_sparse_depth_range", v.stats.gt_in_sparse_range);
-    j.EndObject();
+    views.push_back(
+        {{"name", v.name},
+         {"K_fx_fy_cx_cy", {c.fx, c.fy, c.cx, c.cy}},
+         {"center", {center.x(), center.y(), center.z()}},
+         {"R", {c.R(0, 0), c.R(0, 1), c.R(0, 2), c.R(1, 0), c.R(1, 1), c.R(1, 2), c.R(2, 0),
+                c.R(2, 1), c.R(2, 2)}},
+         {"t", {c.t.x(), c.t.y(), c.t.z()}},
+         {"gain", v.gain},
+         {"offset", v.offset},
+         {"gt_valid_fraction", v.stats.gt_valid_fraction},
+         {"untextured_fraction", v.stats.untextured_fraction},
+         {"gt_depth_range", {v.stats.gt_depth_min, v.stats.gt_depth_max}},
+         {"num_sparse_points", v.stats.num_sparse_points},
+         {"sparse_depth_range", {v.stats.sparse_depth_min, v.stats.sparse_depth_max}},
+         {"gt_in_sparse_depth_range", v.stats.gt_in_sparse_range}});
   }
-  j.EndArray();
-  j.EndObject();
-  return j.str();
+  return j.dump(2) + "\n";
 }
 
 }  // namespace
