@@ -26,7 +26,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->AddIgnored(p + "window_radius", "use --MPMVS.max_window_scale (windows 11/21/41 px)");
   parser->AddIgnored(p + "window_step", "use --MPMVS.max_window_scale (6x6 samples per window)");
   parser->AddIgnored(p + "sigma_spatial", "the bilateral weights are MP-MVS's (sigma_s = 5)");
-  parser->AddIgnored(p + "sigma_color", "the bilateral weights are MP-MVS's (sigma_c = 3)");
+  parser->AddIgnored(p + "sigma_color", "the bilateral weights are MP-MVS's (sigma_c = 2.5)");
   parser->AddIgnored(p + "num_samples", "view selection draws 15 samples (ACMH)");
   parser->AddIgnored(p + "ncc_sigma", "view selection is ACMH's");
   parser->AddIgnored(p + "incident_angle_sigma", "view selection is ACMH's");

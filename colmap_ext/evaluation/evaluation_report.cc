@@ -79,7 +79,7 @@ Json DepthScoreJson(const DepthPixelScore& s) {
 Json ContextJson(const ReportContext& context) {
   return {{"command", context.command},
           {"commit", context.commit.empty() ? std::string("unknown") : context.commit},
-          {"protocol", "EVALUATION.md (depth: relative tolerances; cloud: ETH3D-style)"}};
+          {"protocol", "docs/evaluation.md (depth: relative tolerances; cloud: ETH3D-style)"}};
 }
 
 std::string Dump(const Json& j) { return j.dump(2) + "\n"; }
