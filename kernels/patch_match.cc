@@ -59,6 +59,7 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
   p.geometric = schedule.geometric;
   p.geom_lambda = schedule.geometric ? schedule.geom_lambda : 0.f;
   p.geom_max_error = schedule.geom_max_error;
+  p.noise_variance = schedule.noise_floor ? problem.ref_noise_variance : 0.f;
   p.use_prior = schedule.use_prior;
   p.prior.plane = problem.prior_plane;
   p.prior.label = problem.prior_label;

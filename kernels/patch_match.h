@@ -38,6 +38,8 @@ struct PatchMatchProblem {
   ImageView ref_image;
   std::vector<PatchMatchSource> sources;
   float depth_min = 0.f, depth_max = 0.f;
+  // Noise variance of ref_image (grey levels^2), for the schedule's photometric noise floor.
+  float ref_noise_variance = 0.f;
   // Optional starting hypotheses (4 floats per pixel, d = 0 for none) and their costs.
   const float* init_plane = nullptr;
   const float* init_cost = nullptr;
@@ -59,6 +61,8 @@ struct PatchMatchSchedule {
   bool geometric = false;
   float geom_lambda = 0.2f;
   float geom_max_error = 2.0f;
+  // Floor the photometric cost at the reference's noise level (PassParams::noise_variance).
+  bool noise_floor = false;
   bool use_prior = false;
   float prior_gamma = 0.5f;
   float prior_beta = 0.18f;

@@ -60,6 +60,10 @@ struct PassParams {
   bool geometric = false;
   float geom_lambda = 0.2f;
   float geom_max_error = 2.0f;
+  // Image noise variance of the reference (grey levels^2); 0: off. A window whose variance
+  // is not far above it cannot score a plane better than noise does, so the aggregated
+  // photometric cost is floored at noise_variance / window variance (kernels/DESIGN.md 14).
+  float noise_variance = 0.f;
   bool use_prior = false;
   PlanarPrior prior;
   uint64_t seed = 0;
@@ -176,6 +180,7 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPa
   }
   if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
   photo /= wsum;
+  if (params.noise_variance > 0.f) photo = Max(photo, Min(1.f, params.noise_variance / patch.variance));
   geo = params.geometric ? geo / wsum : 0.f;
   return WeightedCost{photo + params.geom_lambda * geo, photo, geo};
 }

@@ -42,7 +42,6 @@ TEST(PlanarPrior, TrianglePlanesMatchAKnownPlane) {
     for (int u = 2; u < cam.width; u += 10) photo[v * cam.width + u] = 0.05f;
   }
   PlanarPriorOptions options;
-  options.max_edge_fraction = 1.f;  // allow the long triangles of this sparse grid
   const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 20.f, options);
   ASSERT_EQ(model.vertices.size(), 48u);  // 8 x 6 reliable pixels
   EXPECT_GT(model.triangles.size() / 3, 60u);
@@ -84,7 +83,7 @@ TEST(PlanarPrior, VertexSelectionFollowsThePaper) {
   EXPECT_EQ(v[0].u, 4);  // ACMP ignores the geometric error
 }
 
-TEST(PlanarPrior, TrianglesAcrossDepthEdgesGiveNoPrior) {
+TEST(PlanarPrior, TrianglesAcrossDepthEdgesTakeTheBackgroundPlane) {
   const kernels::Camera cam = MakeCamera(60, 40);
   std::vector<float> depth(60 * 40), photo(60 * 40, 1.f), geo(60 * 40, 0.f);
   for (int v = 0; v < 40; ++v) {
@@ -93,17 +92,29 @@ TEST(PlanarPrior, TrianglesAcrossDepthEdgesGiveNoPrior) {
   for (int v = 2; v < 40; v += 5) {
     for (int u = 2; u < 60; u += 5) photo[v * 60 + u] = 0.05f;
   }
+  // Every pixel's own plane faces the camera (fronto-parallel steps).
+  std::vector<float> planes(4 * 60 * 40, 0.f);
+  for (size_t i = 0; i < depth.size(); ++i) {
+    planes[4 * i + 2] = -1.f;
+    planes[4 * i + 3] = depth[i];
+  }
   PlanarPriorOptions options;
-  options.max_edge_fraction = 1.f;
-  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options);
-  EXPECT_GT(model.num_rejected_triangles, 0);
-  // No labelled pixel carries a depth between the two levels.
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes);
+  EXPECT_GT(model.num_straddling_triangles, 0);
+  // No labelled pixel carries a depth between the two levels, and pixels between the last
+  // vertices of the near step (u = 27) and the first of the far one (u = 32) are far.
   for (size_t i = 0; i < model.label.size(); ++i) {
     if (!model.label[i]) continue;
     const kernels::Plane pl{{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]}, model.plane[4 * i + 3]};
     const float z = kernels::PlaneDepth(pl, kernels::PixelRay(cam, float(i % 60), float(i / 60)));
     EXPECT_TRUE(std::abs(z - 3.f) < 1e-3f || std::abs(z - 6.f) < 1e-3f) << z;
+    const int u = static_cast<int>(i % 60);
+    if (u > 27 && u < 32) EXPECT_NEAR(z, 6.f, 1e-3f) << "u " << u;
   }
+  // Without vertex normals (or with the check off) the paper's triangle planes are kept.
+  options.straddle_normal_angle_deg = 0.f;
+  const PlanarPriorModel paper = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes);
+  EXPECT_EQ(paper.num_straddling_triangles, 0);
 }
 
 }  // namespace

@@ -48,8 +48,11 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_max_cost_acmp", &m->prior_max_cost_acmp);
   parser->Add(q + "prior_cell_size", &m->prior_cell_size);
   parser->Add(q + "prior_points_per_cell", &m->prior_points_per_cell);
-  parser->Add(q + "prior_max_depth_jump", &m->prior_max_depth_jump);
-  parser->Add(q + "prior_max_edge", &m->prior_max_edge);
+  parser->Add(q + "prior_straddle_angle", &m->prior_straddle_angle,
+              "degrees; a prior triangle this far from every vertex normal takes its farthest vertex's plane; 0 = paper");
+  parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
+  parser->Add(q + "noise_floor", &m->noise_floor,
+              "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");
   parser->Add(q + "refinement_rho", &m->refinement_rho);
   parser->Add(q + "chroma_weight", &m->chroma_weight,
               "weight of the reference's smoothed colour in the NCC weights; 0 = grey only (paper)");

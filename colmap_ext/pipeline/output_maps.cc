@@ -3,6 +3,7 @@
 #include <utility>
 #include <vector>
 
+#include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/pipeline/stage_store.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/visualization/visualization.h"
@@ -76,6 +77,7 @@ void WriteStagePictures(const DenseWorkspace& workspace, const ReferenceProblem&
   if (prior) {
     FloatMap prior_depth(result.width, result.height, 1);
     prior_depth.data = PriorDepthMap(*prior, camera);
+    WriteFloatMap(base + ".prior_model.bin", prior_depth);
     WriteDepthPicture(base + ".prior_model.png", prior_depth, problem.depth_min, problem.depth_max,
                       name + " planar prior");
   }

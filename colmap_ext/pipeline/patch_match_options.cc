@@ -67,8 +67,9 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (geom_max_error <= 0) return Fail(error, p + "geom_max_error", geom_max_error, "> 0");
   if (prior_cell_size < 1) return Fail(error, p + "prior_cell_size", prior_cell_size, ">= 1");
   if (prior_points_per_cell < 1) return Fail(error, p + "prior_points_per_cell", prior_points_per_cell, ">= 1");
-  if (prior_max_depth_jump <= 0) return Fail(error, p + "prior_max_depth_jump", prior_max_depth_jump, "> 0");
-  if (prior_max_edge <= 0) return Fail(error, p + "prior_max_edge", prior_max_edge, "> 0");
+  if (prior_straddle_angle < 0 || prior_straddle_angle >= 90)
+    return Fail(error, p + "prior_straddle_angle", prior_straddle_angle, "in [0, 90)");
+  if (prior_beta <= 0) return Fail(error, p + "prior_beta", prior_beta, "> 0");
   if (refinement_rho <= 0 || refinement_rho >= 1)
     return Fail(error, p + "refinement_rho", refinement_rho, "in (0, 1)");
   if (!(chroma_weight >= 0 && chroma_weight <= 1000))

@@ -44,8 +44,15 @@ struct MpMvsOptions {
   double prior_max_cost_acmp = 0.1;   // pp vertex: cost <
   int prior_cell_size = 5;
   int prior_points_per_cell = 3;      // gp; pp uses 1 (ACMP)
-  double prior_max_depth_jump = 0.1;  // triangle rejected if vertex depths differ more (rel.)
-  double prior_max_edge = 0.05;       // triangle rejected if an edge exceeds this x diagonal
+  // A prior triangle further than this (degrees) from every vertex normal spans a depth
+  // edge and takes its farthest vertex's plane (0: the paper's triangle planes everywhere).
+  double prior_straddle_angle = 45;
+  // ACMP's beta: the weight of the photometric cost in the prior run's score, exp(-C^2/beta).
+  // 0.18 is ACMP's; a large beta lets the prior decide wherever the views cannot.
+  double prior_beta = 8;
+  // Photometric cost floored at the reference's noise level in the geometric and prior
+  // stages, so that noise-fitted planes do not beat consistent ones on untextured surfaces.
+  bool noise_floor = true;
   double refinement_rho = 0.02;
   // Bilateral weights: grey difference + this x the smoothed chroma difference of the
   // reference (kernels/DESIGN.md item 13). 0: grey only, as ACMH / the MP-MVS code.

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/patch_match_pixel.h"
+
 namespace mpmvs {
 namespace {
 
@@ -22,7 +24,8 @@ using kernels::Vec3;
 std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vector<float>& depth,
                                                    const std::vector<float>& photo_cost,
                                                    const std::vector<float>& geo_error,
-                                                   const PlanarPriorOptions& options) {
+                                                   const PlanarPriorOptions& options,
+                                                   const std::vector<float>* planes) {
   const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
   const int per_cell = geometric ? options.points_per_cell : 1;
   const int cs = options.cell_size;
@@ -48,7 +51,9 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
       std::partial_sort(candidates.begin(), candidates.begin() + keep, candidates.end());
       for (int k = 0; k < keep; ++k) {
         const int i = candidates[k].second;
-        vertices.push_back({i % W, i / W, depth[i]});
+        PlanarPriorVertex vertex{i % W, i / W, depth[i]};
+        if (planes) vertex.normal = Vec3{(*planes)[4 * i], (*planes)[4 * i + 1], (*planes)[4 * i + 2]};
+        vertices.push_back(vertex);
       }
     }
   }
@@ -58,12 +63,13 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
-                                  float depth_max, const PlanarPriorOptions& options) {
+                                  float depth_max, const PlanarPriorOptions& options,
+                                  const std::vector<float>* planes) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options);
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes);
   if (model.vertices.size() < 3) return model;
 
   std::vector<std::pair<Kernel::Point_2, int>> points;
@@ -74,36 +80,44 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
   Delaunay triangulation;
   triangulation.insert(points.begin(), points.end());
 
-  const float max_edge = options.max_edge_fraction * std::sqrt(float(W) * W + float(H) * H);
+  const float min_normal_cos = options.straddle_normal_angle_deg > 0.f
+                                   ? std::cos(options.straddle_normal_angle_deg * kernels::kPi / 180.f)
+                                   : -2.f;
   for (auto face = triangulation.finite_faces_begin(); face != triangulation.finite_faces_end(); ++face) {
     int idx[3];
     Vec3 X[3];
-    float z[3];
     for (int k = 0; k < 3; ++k) {
       idx[k] = face->vertex(k)->info();
       const PlanarPriorVertex& pv = model.vertices[idx[k]];
-      z[k] = pv.depth;
       X[k] = pv.depth * kernels::PixelRay(camera, static_cast<float>(pv.u), static_cast<float>(pv.v));
     }
-    // A prior across a depth edge or spanning far-apart points is wrong more often than not.
-    const float zmean = (z[0] + z[1] + z[2]) / 3.f;
-    const float zspread = std::max({z[0], z[1], z[2]}) - std::min({z[0], z[1], z[2]});
-    bool reject = zspread > options.max_depth_jump * zmean;
-    for (int k = 0; k < 3 && !reject; ++k) {
-      const PlanarPriorVertex& a = model.vertices[idx[k]];
-      const PlanarPriorVertex& b = model.vertices[idx[(k + 1) % 3]];
-      const float du = float(a.u - b.u), dv = float(a.v - b.v);
-      if (std::sqrt(du * du + dv * dv) > max_edge) reject = true;
-    }
     Vec3 n = kernels::Cross(X[1] - X[0], X[2] - X[0]);
-    if (kernels::Norm(n) <= 0.f) reject = true;
-    if (reject) {
-      ++model.num_rejected_triangles;
-      continue;
-    }
+    if (kernels::Norm(n) <= 0.f) continue;
     n = kernels::Normalize(n);
     if (kernels::Dot(n, X[0]) > 0.f) n = -n;  // face the camera
-    const float d = -kernels::Dot(n, X[0]);
+    Vec3 on_plane = X[0];
+    // A triangle whose plane agrees with none of its vertices' own normals spans a depth
+    // edge: the area between an object's vertices and the background's is mostly
+    // background, so it takes the tangent plane of its farthest vertex (kernels/DESIGN.md 14).
+    int agree = 0, known = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 vertex_normal = model.vertices[idx[k]].normal;
+      known += kernels::Norm(vertex_normal) > 0.f;
+      agree += kernels::Dot(n, vertex_normal) >= min_normal_cos;
+    }
+    if (known > 0 && agree == 0) {
+      int far = 0;
+      for (int k = 1; k < 3; ++k) {
+        if (model.vertices[idx[k]].depth > model.vertices[idx[far]].depth) far = k;
+      }
+      const Vec3 far_normal = model.vertices[idx[far]].normal;
+      if (!(kernels::Norm(far_normal) > 0.f)) continue;
+      n = kernels::Normalize(far_normal);
+      if (kernels::Dot(n, X[far]) > 0.f) n = -n;
+      on_plane = X[far];
+      ++model.num_straddling_triangles;
+    }
+    const float d = -kernels::Dot(n, on_plane);
     model.triangles.insert(model.triangles.end(), {idx[0], idx[1], idx[2]});
 
     // Rasterise: pixels whose centre lies inside the triangle (edges inclusive).

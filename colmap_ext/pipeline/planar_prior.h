@@ -17,19 +17,22 @@ struct PlanarPriorOptions {
   float max_photo_cost = 0.2f;       // geometric: m_p <
   float max_geom_error = 1.0f;       // geometric: m_g < (px)
   float max_cost_photometric = 0.1f;  // photometric: cost <
-  float max_depth_jump = 0.1f;       // reject triangles spanning a depth edge
-  float max_edge_fraction = 0.05f;   // reject triangles with an edge > this x image diagonal
+  // A triangle whose plane is further than this from every vertex's own normal spans a
+  // depth edge and takes its farthest vertex's plane instead (0: off, the paper's Delaunay
+  // planes everywhere).
+  float straddle_normal_angle_deg = 45.f;
 };
 
 struct PlanarPriorVertex {
   int u = 0, v = 0;
   float depth = 0;
+  kernels::Vec3 normal{0.f, 0.f, 0.f};  // the pixel's plane normal (0: unknown)
 };
 
 struct PlanarPriorModel {
   std::vector<PlanarPriorVertex> vertices;
   std::vector<int> triangles;  // 3 vertex indices per kept triangle
-  int num_rejected_triangles = 0;
+  int num_straddling_triangles = 0;  // across a depth edge: the farthest vertex's plane
   std::vector<float> plane;    // 4 per pixel (nx, ny, nz, d), reference camera frame
   std::vector<uint8_t> label;  // 1 where a triangle covers the pixel
 };
@@ -40,7 +43,8 @@ struct PlanarPriorModel {
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
-                                  float depth_max, const PlanarPriorOptions& options);
+                                  float depth_max, const PlanarPriorOptions& options,
+                                  const std::vector<float>* planes = nullptr);
 
 // The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
 std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);
@@ -50,6 +54,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& depth,
                                                    const std::vector<float>& photo_cost,
                                                    const std::vector<float>& geo_error,
-                                                   const PlanarPriorOptions& options);
+                                                   const PlanarPriorOptions& options,
+                                                   const std::vector<float>* planes = nullptr);
 
 }  // namespace mpmvs

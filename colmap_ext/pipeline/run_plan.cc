@@ -14,8 +14,7 @@ PlanarPriorOptions MakePriorOptions(const MpMvsOptions& o) {
   po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
   po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
   po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
-  po.max_depth_jump = static_cast<float>(o.prior_max_depth_jump);
-  po.max_edge_fraction = static_cast<float>(o.prior_max_edge);
+  po.straddle_normal_angle_deg = static_cast<float>(o.prior_straddle_angle);
   return po;
 }
 

@@ -20,6 +20,7 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   base.refinement_rho = static_cast<float>(options.refinement_rho);
   base.seed = static_cast<uint64_t>(options.seed);
   base.num_threads = colmap_options.num_threads;
+  base.prior_beta = static_cast<float>(options.prior_beta);
 
   auto single_scale = [&](int iterations) {
     kernels::PatchMatchSchedule s = base;
@@ -46,6 +47,7 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
     prior.prior_geometric_selection = geometric_selection;
     prior.schedule = single_scale(options.prior_iterations);
     prior.schedule.use_prior = true;
+    prior.schedule.noise_floor = options.noise_floor;
     // After a geometric pass (gp) the prior run keeps the geometric term: the paper does not
     // say, the reference code drops it, and keeping it scores better (colmap_ext/DESIGN.md).
     prior.schedule.geometric = geometric_selection;
@@ -58,6 +60,7 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
     geo.input = static_cast<int>(plan.stages.size()) - 1;
     geo.schedule = single_scale(options.geom_iterations);
     geo.schedule.geometric = true;
+    geo.schedule.noise_floor = options.noise_floor;
     plan.stages.push_back(geo);
   };
 

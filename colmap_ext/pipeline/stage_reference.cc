@@ -1,5 +1,6 @@
 #include "colmap_ext/pipeline/stage_reference.h"
 
+#include "colmap_ext/pipeline/image_noise.h"
 #include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/util/logging.h"
 
@@ -15,6 +16,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
   auto ref_image = store->Image(p.ref);
   ref->images.push_back(ref_image);
   problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
+  if (stage.schedule.noise_floor) problem.ref_noise_variance = EstimateNoiseVariance(*ref_image);
   if (chroma_weight > 0) {
     ref->chroma = store->ChromaGuide(p.ref);
     if (!ref->chroma->empty()) problem.ref_image.chroma = ref->chroma->data();
@@ -49,14 +51,14 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   kernels::PatchMatchProblem& problem = ref->pm;
   const std::vector<float> depth = ResultDepth(ref->input, problem.ref_camera, p.depth_min, p.depth_max);
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
-                                p.depth_min, p.depth_max, options);
+                                p.depth_min, p.depth_max, options, &ref->input.plane);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
   LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
           " vertices, " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
-          std::to_string(ref->prior.num_rejected_triangles) + " rejected), " +
+          std::to_string(ref->prior.num_straddling_triangles) + " across depth edges), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
 }
 
