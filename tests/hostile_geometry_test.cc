@@ -308,14 +308,55 @@ TEST(HostileGeometry, CamerasBehindBesideAndInsideTheSceneDoNotSpoilTheOthers) {
   }
 }
 
+// The same scene with the world shifted by a few million metres (as UTM/ECEF-registered
+// models are) must give the same maps up to float rounding.
+TEST(HostileGeometry, GeoreferencedWorldOffsetKeepsAccuracy) {
+  test::TempDir tmp;
+  SyntheticSceneOptions options;
+  options.scene = "plane";
+  options.width = kWidth;
+  options.height = kHeight;
+  options.num_views = 3;
+  options.plane_tilt_deg = 35;
+  options.write_gt_points = false;
+  const SyntheticScene scene = RenderSyntheticScene(options);
+  WriteSyntheticScene(scene, tmp / "origin");
+  SyntheticScene shifted = scene;
+  const double offset[3] = {3.5e6, 5.1e6, 200.0};
+  for (SparseImage& image : shifted.model.images) {
+    double R[9];
+    QuaternionToRotationMatrix(image.qvec, R);
+    for (int i = 0; i < 3; ++i) {
+      image.tvec[i] -= R[3 * i] * offset[0] + R[3 * i + 1] * offset[1] + R[3 * i + 2] * offset[2];
+    }
+  }
+  for (SparsePoint3D& point : shifted.model.points) {
+    for (int i = 0; i < 3; ++i) point.xyz[i] += offset[i];
+  }
+  WriteSyntheticScene(shifted, tmp / "shifted");
+  RunQuietly(tmp / "origin");
+  RunQuietly(tmp / "shifted");
+  for (size_t i = 0; i < scene.views.size(); ++i) {
+    const double a = DepthAccuracy(tmp / "origin", scene, i);
+    const double b = DepthAccuracy(tmp / "shifted", scene, i);
+    std::printf("%s: %.2f %% within 1 %% at the origin, %.2f %% shifted\n", ViewName(i).c_str(), 100 * a,
+                100 * b);
+    EXPECT_GE(a, 0.85);
+    EXPECT_NEAR(a, b, 0.01) << ViewName(i);
+  }
+}
+
 // Ordinary pairs (the small plane scene, a rectified stereo pair, whose reference centre
-// lies in the source's image plane but whose rays do not run along it) raise no warning.
-TEST(HostileGeometry, OrdinaryPairsRaiseNoWarning) {
+// lies in the source's image plane but whose rays do not run along it) keep the world frame
+// and raise no warning; the same scene a few million metres from the origin is re-centred.
+TEST(HostileGeometry, OrdinaryPairsKeepTheWorldFrameAndRaiseNoWarning) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
   DenseWorkspace ws = LoadDenseWorkspace(tmp.path(), -1);
+  const std::vector<int> all = {0, 1, 2};
   for (int r = 0; r < 3; ++r) {
     const DenseView& ref = ws.views[r];
+    EXPECT_FALSE(ChooseKernelFrame(ws, r, all, ref.depth_min).recentred) << r;
     for (int s = 0; s < 3; ++s) {
       if (s != r) EXPECT_EQ(DegenerateSourceReason(ref, ws.views[s], ref.depth_min, ref.depth_max), "");
     }
@@ -327,6 +368,17 @@ TEST(HostileGeometry, OrdinaryPairsRaiseNoWarning) {
   right.T[0] = -0.3;
   EXPECT_EQ(DegenerateSourceReason(left, right, 1.0, 10.0), "");
   EXPECT_EQ(DegenerateSourceReason(right, left, 1.0, 10.0), "");
+
+  for (DenseView& view : ws.views) {  // world shifted by (3.5e6, 5.1e6, 200)
+    const double offset[3] = {3.5e6, 5.1e6, 200.0};
+    for (int i = 0; i < 3; ++i) {
+      view.T[i] -= view.R[3 * i] * offset[0] + view.R[3 * i + 1] * offset[1] + view.R[3 * i + 2] * offset[2];
+    }
+  }
+  const KernelFrame frame = ChooseKernelFrame(ws, 0, {1, 2}, ws.views[0].depth_min);
+  EXPECT_TRUE(frame.recentred);
+  const kernels::Camera ref = ToKernelCamera(ws.views[0], frame);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(ref.t[i], 0.f, 1e-6f);
 }
 
 }  // namespace

@@ -29,7 +29,33 @@ void RefToSource(const DenseView& ref, const DenseView& src, const double X[3], 
 
 }  // namespace
 
-kernels::Camera ToKernelCamera(const DenseView& view) {
+KernelFrame ChooseKernelFrame(const DenseWorkspace& workspace, int ref, const std::vector<int>& src,
+                              double depth_min) {
+  const DenseView& r = workspace.views[ref];
+  const kernels::Camera ref_world = ToKernelCamera(r);
+  double worst_px = 0;
+  for (int s : src) {
+    const DenseView& v = workspace.views[s];
+    // The relative translation the kernels would form in the world frame, against the exact one.
+    const kernels::RelativePose rel = kernels::ComputeRelativePose(ref_world, ToKernelCamera(v));
+    double exact[3];
+    ExactRelativeTranslation(r, v, exact);
+    double error = 0;
+    for (int i = 0; i < 3; ++i) error = std::max(error, std::abs(static_cast<double>(rel.t[i]) - exact[i]));
+    const double px = std::max(std::abs(v.K[0]), std::abs(v.K[4])) * error / std::max(depth_min, 1e-12);
+    worst_px = std::max(worst_px, std::isfinite(px) ? px : HUGE_VAL);
+  }
+  KernelFrame frame;
+  if (worst_px > kMaxWorldFrameErrorPx) {
+    frame.recentred = true;
+    for (int j = 0; j < 3; ++j) {  // C_r = -R_r^T t_r
+      frame.origin[j] = -(r.R[j] * r.T[0] + r.R[3 + j] * r.T[1] + r.R[6 + j] * r.T[2]);
+    }
+  }
+  return frame;
+}
+
+kernels::Camera ToKernelCamera(const DenseView& view, const KernelFrame& frame) {
   kernels::Camera c;
   c.width = view.width;
   c.height = view.height;
@@ -38,7 +64,14 @@ kernels::Camera ToKernelCamera(const DenseView& view) {
   c.cx = static_cast<float>(view.K[2]);
   c.cy = static_cast<float>(view.K[5]);
   for (int i = 0; i < 9; ++i) c.R[i] = static_cast<float>(view.R[i]);
-  for (int i = 0; i < 3; ++i) c.t[i] = static_cast<float>(view.T[i]);
+  for (int i = 0; i < 3; ++i) {
+    // X_cam = R (X' + origin) + t for X' = X - origin.
+    const double t = frame.recentred ? view.T[i] + view.R[3 * i] * frame.origin[0] +
+                                           view.R[3 * i + 1] * frame.origin[1] +
+                                           view.R[3 * i + 2] * frame.origin[2]
+                                     : view.T[i];
+    c.t[i] = static_cast<float>(t);
+  }
   return c;
 }
 
