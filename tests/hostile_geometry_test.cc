@@ -381,5 +381,43 @@ TEST(HostileGeometry, OrdinaryPairsKeepTheWorldFrameAndRaiseNoWarning) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(ref.t[i], 0.f, 1e-6f);
 }
 
+// ---------------------------------------------------------------------------------------
+// Threads: an absurd count runs (capped, with a warning); when threads cannot be created at
+// all the run stops with a clear error instead of aborting.
+
+struct CliRun {
+  int code;
+  std::string output;
+};
+
+CliRun ColmapMp(const std::string& shell_prefix, const std::string& args, const std::string& log) {
+  CliRun r;
+  r.code = test::RunCommand(shell_prefix + "'" + test::ColmapMpExecutable() + "' " + args, log);
+  r.output = test::ReadTextFile(log);
+  return r;
+}
+
+TEST(HostileGeometry, AbsurdThreadCountIsCappedWithAWarning) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp / "ws", 64, 48, 2);
+  const CliRun r = ColmapMp("", "mp_patch_match_stereo --workspace_path " + (tmp / "ws") +
+                                    " --PatchMatchStereo.num_threads 100000",
+                            tmp / "log");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("--PatchMatchStereo.num_threads"), std::string::npos) << r.output;
+}
+
+TEST(HostileGeometry, ThreadCreationFailureIsAClearError) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp / "ws", 64, 48, 2);
+  // 1 GB thread stacks in a 1.5 GB address space: the first worker starts, the second not.
+  const CliRun r = ColmapMp("ulimit -s 1000000 && ulimit -v 1500000 && ",
+                            "mp_patch_match_stereo --workspace_path " + (tmp / "ws") +
+                                " --PatchMatchStereo.num_threads 3",
+                            tmp / "log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("thread"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace mpmvs
