@@ -33,7 +33,7 @@ MPMVS_HD MPMVS_FORCE_INLINE int MaxI(int a, int b) { return a > b ? a : b; }
 // e^-x for x >= 0, inline and branch-free (the reference-patch weights and view selection need
 // dozens per pixel update; libm's expf is a call). Relative error below 1e-5.
 MPMVS_HD MPMVS_FORCE_INLINE float ExpNeg(float x) {
-  const float t = Min(x * 1.44269504f, 125.f);  // e^-x = 2^-t
+  const float t = Max(Min(x * 1.44269504f, 125.f), 0.f);  // e^-x = 2^-t; NaN -> 125, int-safe
   const int n = static_cast<int>(t);
   const float y = -(t - static_cast<float>(n)) * 0.693147181f;  // 2^-frac = e^y, y in (-ln2, 0]
   const float p =

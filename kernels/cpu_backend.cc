@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -22,15 +23,20 @@ using CpuNcc = SimdNcc;
 using CpuNcc = ScalarNcc;
 #endif
 
-int ResolveThreads(int requested) {
-  if (requested > 0) return requested;
+int HardwareThreads() {
   const unsigned hw = std::thread::hardware_concurrency();
   return hw > 0 ? static_cast<int>(hw) : 1;
 }
 
-// Calls fn(row, &counter) for every row, on num_threads threads; returns the summed counter.
+int ResolveThreads(int requested) {
+  return requested > 0 ? std::min(requested, MaxCpuThreads()) : HardwareThreads();
+}
+
+// Calls fn(row, &counter) for every row, on num_threads threads (at most one per row);
+// returns the summed counter.
 template <typename Fn>
 uint64_t ParallelRows(int num_rows, int num_threads, const Fn& fn) {
+  num_threads = std::max(1, std::min(num_threads, num_rows));
   std::atomic<int> next{0};
   std::vector<uint64_t> counters(num_threads, 0);
   auto worker = [&](int t) {
@@ -47,7 +53,17 @@ uint64_t ParallelRows(int num_rows, int num_threads, const Fn& fn) {
     worker(0);
   } else {
     std::vector<std::thread> threads;
-    for (int t = 0; t < num_threads; ++t) threads.emplace_back(worker, t);
+    try {
+      threads.reserve(num_threads);
+      for (int t = 0; t < num_threads; ++t) threads.emplace_back(worker, t);
+    } catch (const std::exception& e) {
+      // Destroying a joinable std::thread would std::terminate: let the started threads
+      // finish the rows, then report.
+      for (auto& th : threads) th.join();
+      throw ThreadStartError("could not start CPU worker thread " + std::to_string(threads.size() + 1) +
+                             " of " + std::to_string(num_threads) + " (" + e.what() +
+                             "): the system's thread or memory limits allow fewer threads");
+    }
     for (auto& th : threads) th.join();
   }
   uint64_t sum = 0;
@@ -118,6 +134,8 @@ class CpuPasses {
 };
 
 }  // namespace
+
+int MaxCpuThreads() { return 4 * HardwareThreads(); }
 
 void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
                       PatchMatchResult* result, const ProgressCallback& progress) {

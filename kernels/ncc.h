@@ -60,10 +60,16 @@ MPMVS_HD MPMVS_FORCE_INLINE bool SourcePatchIsFlat(float var_s, float mean_squar
   return var_s < kMinNccVariance * (1.f + mean_square);
 }
 
-// Bilinear sample with clamp-to-edge addressing.
+// x clamped to [lo, hi], NaN to lo: safe to convert to int afterwards.
+MPMVS_HD MPMVS_FORCE_INLINE float ClampCoordinate(float x, float lo, float hi) {
+  return x > lo ? (x < hi ? x : hi) : lo;
+}
+
+// Bilinear sample with clamp-to-edge addressing (a NaN coordinate, from a window sample on
+// the source's principal plane, reads the border like the vectorised CPU form).
 MPMVS_HD MPMVS_FORCE_INLINE float SampleBilinear(const ImageView& img, float x, float y) {
-  x = Clamp(x, 0.f, static_cast<float>(img.width - 1));
-  y = Clamp(y, 0.f, static_cast<float>(img.height - 1));
+  x = ClampCoordinate(x, 0.f, static_cast<float>(img.width - 1));
+  y = ClampCoordinate(y, 0.f, static_cast<float>(img.height - 1));
   const int x0 = static_cast<int>(x);
   const int y0 = static_cast<int>(y);
   const int x1 = MinI(x0 + 1, img.width - 1);

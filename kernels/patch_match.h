@@ -3,6 +3,7 @@
 // iterations; the CPU backend runs it over all cores, the CUDA backend on a GPU. Plain data
 // in, plain data out; no I/O.
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,17 @@ using ProgressCallback = std::function<void(int, int)>;
 
 void RunPatchMatchCpu(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
                       PatchMatchResult* result, const ProgressCallback& progress = nullptr);
+
+// The most worker threads the CPU functions use: 4 per hardware thread (more only cost
+// memory; results do not depend on the count). Larger requests are capped to it.
+int MaxCpuThreads();
+
+// Thrown by the CPU functions when the system refuses to start their worker threads (thread
+// or memory limits); the threads already started have finished their work.
+class ThreadStartError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // The NCC cost the CPU backend runs, compiled with its flags (vectorised where the build
 // allows), so tests can hold it against the shared scalar ComputeNccCost; and its name:

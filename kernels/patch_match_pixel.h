@@ -130,9 +130,14 @@ MPMVS_HD inline float GeometricError(const PassParams& params, const SourceView&
   const Vec3 X_src = MatVec(src.rel.R, depth * ray) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
   float us, vs;
   if (!ProjectCameraPoint(src.camera, X_src, &us, &vs)) return max_error;
+  // Range check in float before converting: near the source's image plane the projection
+  // leaves every int range (or is inf/NaN), and a conversion of it is undefined.
+  if (!(us >= -0.5f && vs >= -0.5f && us + 0.5f < static_cast<float>(src.camera.width) &&
+        vs + 0.5f < static_cast<float>(src.camera.height))) {
+    return max_error;
+  }
   const int col = static_cast<int>(us + 0.5f);
   const int row = static_cast<int>(vs + 0.5f);
-  if (us < -0.5f || vs < -0.5f || col >= src.camera.width || row >= src.camera.height) return max_error;
   const float d = src.depth[static_cast<long>(row) * src.camera.width + col];
   if (!(d > 0.f)) return max_error;
   const Vec3 back = d * PixelRay(src.camera, us, vs);

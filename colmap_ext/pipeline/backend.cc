@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "colmap_ext/util/error.h"
 #include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
@@ -32,14 +33,18 @@ Backend::~Backend() = default;
 
 void Backend::Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
                   kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next) {
-  if (cuda_) {
-    cuda_->Run(problem, schedule, result, next);
-  } else {
-    if (options_.cpu_look_ahead && next) next();
-    kernels::RunPatchMatchCpu(problem, schedule, result);
+  try {
+    if (cuda_) {
+      cuda_->Run(problem, schedule, result, next);
+    } else {
+      if (options_.cpu_look_ahead && next) next();
+      kernels::RunPatchMatchCpu(problem, schedule, result);
+    }
+    kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max,
+                                   options_.num_threads, result);
+  } catch (const kernels::ThreadStartError& e) {
+    throw Error(std::string(e.what()) + "; lower --PatchMatchStereo.num_threads");
   }
-  kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max,
-                                 options_.num_threads, result);
 }
 
 void Backend::LogCacheStats() const {

@@ -1,5 +1,6 @@
 #include "colmap_ext/pipeline/reference_problems.h"
 
+#include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
@@ -35,6 +36,10 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
                  "--PatchMatchStereo.depth_min and --PatchMatchStereo.depth_max");
       ++problems.num_skipped_no_depth_range;
     } else {
+      for (int src : p.src) {  // the kernels cope; name the sources that cannot help
+        const std::string why = DegenerateSourceReason(view, workspace.views[src], p.depth_min, p.depth_max);
+        if (!why.empty()) LogWarning(view.name + ": source " + workspace.views[src].name + " contributes little or nothing: " + why);
+      }
       problems.runnable.push_back(p);
     }
   }

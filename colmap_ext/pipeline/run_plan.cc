@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "colmap_ext/util/error.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {
@@ -35,6 +36,15 @@ int FirstGpuIndex(const std::string& gpu_index) {
   return std::stoi(first);
 }
 
+// --PatchMatchStereo.num_threads capped to what the CPU functions use, with a warning.
+int CappedThreads(int requested) {
+  const int max_threads = kernels::MaxCpuThreads();
+  if (requested <= max_threads) return requested;
+  LogWarning("--PatchMatchStereo.num_threads " + std::to_string(requested) + " capped to " +
+             std::to_string(max_threads) + " (4 per hardware thread)");
+  return max_threads;
+}
+
 }  // namespace
 
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
@@ -48,9 +58,9 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.filter = colmap_options.filter;
   plan.filter_params = MakeFilterParams(colmap_options);
   plan.cache_bytes = static_cast<size_t>(colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
-  plan.num_threads = colmap_options.num_threads;
+  plan.num_threads = CappedThreads(colmap_options.num_threads);
   plan.backend.gpu_index = FirstGpuIndex(colmap_options.gpu_index);
-  plan.backend.num_threads = colmap_options.num_threads;
+  plan.backend.num_threads = plan.num_threads;
   plan.backend.cache_bytes = plan.cache_bytes;
   plan.backend.cpu_look_ahead = cpu_look_ahead;
   plan.chroma_weight = static_cast<float>(options.chroma_weight);

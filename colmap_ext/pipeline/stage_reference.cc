@@ -10,7 +10,7 @@ namespace {
 // The reference's and its sources' images and, in geometric stages, the sources' depth
 // maps of the input stage (a source without them is left out, with a warning).
 void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage, const DenseWorkspace& workspace,
-                         StageStore* store, float chroma_weight, StageReference* ref) {
+                         const KernelFrame& frame, StageStore* store, float chroma_weight, StageReference* ref) {
   const ReferenceProblem& p = *ref->problem;
   kernels::PatchMatchProblem& problem = ref->pm;
   auto ref_image = store->Image(p.ref);
@@ -24,7 +24,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
   if (stage.schedule.geometric) problem.depth_maps_stage = stage.input;
   for (int src : p.src) {
     kernels::PatchMatchSource source;
-    source.camera = ToKernelCamera(workspace.views[src]);
+    source.camera = ToKernelCamera(workspace.views[src], frame);
     source.image_id = static_cast<uint32_t>(src);
     if (stage.schedule.geometric) {
       if (!store->HasState(src, input_stage)) {
@@ -79,7 +79,8 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   kernels::PatchMatchProblem& problem = ref->pm;
   problem.image_id = static_cast<uint32_t>(p.ref);
   problem.ref_image_id = static_cast<uint32_t>(p.ref);  // device cache ids: view indices
-  problem.ref_camera = ToKernelCamera(workspace.views[p.ref]);
+  const KernelFrame frame = ChooseKernelFrame(workspace, p.ref, p.src, p.depth_min);
+  problem.ref_camera = ToKernelCamera(workspace.views[p.ref], frame);
   problem.depth_min = p.depth_min;
   problem.depth_max = p.depth_max;
 
@@ -89,7 +90,7 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   // Images and source depth maps: needed to compute the stage, and by the output filter.
   const std::string input_stage = stage.input >= 0 ? plan.pipeline.stages[stage.input].name : "";
   if (!have_state || ref->filter_here) {
-    AddImagesAndSources(stage, input_stage, workspace, store, plan.chroma_weight, ref.get());
+    AddImagesAndSources(stage, input_stage, workspace, frame, store, plan.chroma_weight, ref.get());
   }
   if (have_state) {
     ref->action = StageReference::Action::kResume;
