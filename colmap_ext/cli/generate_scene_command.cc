@@ -9,12 +9,32 @@
 
 namespace mpmvs {
 
+namespace {
+
+// The --scene value, if given: the other options' defaults depend on it.
+std::string SceneArgument(const std::vector<std::string>& args) {
+  std::string scene = SyntheticSceneOptions().scene;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--scene" && i + 1 < args.size()) scene = args[i + 1];
+    if (args[i].rfind("--scene=", 0) == 0) scene = args[i].substr(8);
+  }
+  return scene;
+}
+
+}  // namespace
+
 int RunGenerateSceneCommand(const std::vector<std::string>& args) {
-  SyntheticSceneOptions options;
+  SyntheticSceneOptions options = SyntheticSceneOptions::ForScene(SceneArgument(args));
   std::string output_path;
   OptionParser parser;
+  std::string scene_names;
+  for (const std::string& name : SyntheticSceneNames()) {
+    scene_names += (scene_names.empty() ? "" : ", ") + name;
+  }
   parser.AddRequired("output_path", &output_path, "folder of the new dense workspace + gt/");
-  parser.Add("scene", &options.scene, "indoor, facade or plane");
+  parser.Add("scene", &options.scene,
+             scene_names + " (defaults below are this scene's; the rooms default to 640x480, "
+                           "10 views, SIFT sparse points)");
   parser.Add("width", &options.width, "image width in pixels");
   parser.Add("height", &options.height, "image height in pixels");
   parser.Add("num_views", &options.num_views, "number of cameras");
@@ -30,8 +50,15 @@ int RunGenerateSceneCommand(const std::vector<std::string>& args) {
   parser.Add("sparse_noise_px", &options.sparse_noise_px, "noise of sparse 2-D observations (px)");
   parser.Add("write_gt_points", &options.write_gt_points, "write gt/gt_points.ply");
   parser.Add("num_threads", &options.num_threads, "render threads (-1 = all)");
+  parser.Add("sparse_source", &options.sparse_source,
+             "simulated (detector model knowing the GT) or sift (COLMAP CPU SIFT + matching, "
+             "triangulated with the known poses; needs colmap)");
+  parser.Add("vignetting", &options.vignetting, "corner darkening 1 - v r^2 (0 = off)");
+  parser.Add("shot_noise", &options.shot_noise,
+             "signal-dependent noise: variance noise_sigma^2 + shot_noise * intensity");
   if (!parser.Parse(args)) {
-    ShowHelp(parser, "colmap-mp generate_scene --scene indoor --output_path DIR [options]");
+    ShowHelp(parser, "colmap-mp generate_scene --scene indoor --output_path DIR [options]\n"
+                     "Scenes: " + scene_names + "; e.g. --scene room_l");
     return 0;
   }
   options.Check();
@@ -42,6 +69,11 @@ int RunGenerateSceneCommand(const std::vector<std::string>& args) {
   std::printf("Generated scene '%s': %d views %dx%d, %zu sparse points, in %.2f s -> %s\n",
               options.scene.c_str(), options.num_views, options.width, options.height,
               scene.model.points.size(), seconds, output_path.c_str());
+  const SparsePointLabels& l = scene.sparse_labels;
+  std::printf("  untextured: %.1f%% of GT pixels; sparse points (%s) on textured surfaces %d, "
+              "on untextured %d, off the GT surface %d\n",
+              100 * UntexturedShare(scene), options.sparse_source.c_str(), l.on_textured,
+              l.on_untextured, l.off_surface);
   for (const SyntheticView& v : scene.views) {
     std::printf("  %s  untextured %4.1f%%  GT depth %.2f..%.2f  sparse points %4d  "
                 "sparse depth range %.2f..%.2f covers %5.1f%% of GT\n",

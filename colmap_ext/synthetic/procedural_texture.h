@@ -23,8 +23,12 @@ struct SurfaceMaterial {
   double scale = 0.1;  // metres
   Eigen::Vector3d stripe_direction{1, 0, 0};
   uint64_t seed = 0;
+  // Light the surface gives off by itself (linear radiance added to the shaded albedo), e.g.
+  // a bright window or a lamp panel. Not a light source for other surfaces.
+  Eigen::Vector3d emission{0, 0, 0};
 
   bool Textured() const { return pattern != TexturePattern::kPlain; }
+  bool Emissive() const { return emission.x() > 0 || emission.y() > 0 || emission.z() > 0; }
 };
 
 // Albedo of the material at world point p.

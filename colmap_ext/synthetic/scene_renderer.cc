@@ -13,6 +13,19 @@ namespace {
 constexpr double kShadowEps = 1e-4;
 constexpr double kGamma = 1.0 / 2.2;
 
+double PointIrradiance(const SceneGeometry& geometry, const ScenePointLight& light,
+                       const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                       const Eigen::Vector3d& shadow_origin) {
+  if (light.power <= 0) return 0;
+  const Eigen::Vector3d to_light = light.position - p;
+  const double dist2 = to_light.squaredNorm();
+  const double ndl = n.dot(to_light) / std::sqrt(dist2);
+  if (ndl <= 0) return 0;
+  SceneRay shadow{shadow_origin, to_light};
+  if (geometry.Occluded(shadow, 0, 1.0 - 1e-6)) return 0;
+  return light.power * ndl / (dist2 + light.softness * light.softness);
+}
+
 Eigen::Vector3d Shade(const SyntheticWorld& world, const SceneRay& ray, const SceneHit& hit,
                       Eigen::Vector3d* oriented_normal) {
   const Eigen::Vector3d p = ray.origin + hit.t * ray.direction;
@@ -43,7 +56,12 @@ Eigen::Vector3d Shade(const SyntheticWorld& world, const SceneRay& ray, const Sc
       }
     }
   }
-  return irradiance * MaterialAlbedo(world.materials[hit.material], p);
+  for (const ScenePointLight& extra : light.extra_point_lights) {
+    irradiance += PointIrradiance(world.geometry, extra, p, n, shadow_origin);
+  }
+  const SurfaceMaterial& material = world.materials[hit.material];
+  if (material.Emissive()) return irradiance * MaterialAlbedo(material, p) + material.emission;
+  return irradiance * MaterialAlbedo(material, p);
 }
 
 Eigen::Vector3d Background(const SceneBackground& bg, const Eigen::Vector3d& direction) {
@@ -51,6 +69,13 @@ Eigen::Vector3d Background(const SceneBackground& bg, const Eigen::Vector3d& dir
   const double e = std::max(0.0, direction.normalized().dot(bg.up.normalized()));
   const double w = std::sqrt(e);
   return (1 - w) * bg.color + w * bg.zenith;
+}
+
+// 1 - strength * r^2, r the distance from the image centre relative to the corner's.
+double Vignette(const SyntheticCamera& camera, int col, int row, double strength) {
+  const double hx = 0.5 * (camera.width - 1), hy = 0.5 * (camera.height - 1);
+  const double dx = col - hx, dy = row - hy;
+  return 1.0 - strength * (dx * dx + dy * dy) / (hx * hx + hy * hy);
 }
 
 double ToneCurve(double radiance, double exposure) {
@@ -180,6 +205,7 @@ RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& came
           }
         }
         sum /= static_cast<double>(s * s);
+        if (options.vignetting > 0) sum *= Vignette(camera, col, row, options.vignetting);
         for (int c = 0; c < 3; ++c) {
           const double v = ToneCurve(sum[c], exposure);
           linear[c * plane + static_cast<size_t>(row) * w + col] =
@@ -197,7 +223,11 @@ RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& came
   for (size_t i = 0; i < plane; ++i) {
     for (int c = 0; c < 3; ++c) {
       double v = linear[c * plane + i];
-      if (options.noise_sigma > 0) {
+      if (options.shot_noise > 0) {
+        const double sigma =
+            std::sqrt(options.noise_sigma * options.noise_sigma + options.shot_noise * std::max(0.0, v));
+        v += sigma * SynthNormal(SynthHash(options.noise_seed, i, c));
+      } else if (options.noise_sigma > 0) {
         v += options.noise_sigma * SynthNormal(SynthHash(options.noise_seed, i, c));
       }
       view.image.data[3 * i + c] =

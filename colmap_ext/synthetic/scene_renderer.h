@@ -41,6 +41,12 @@ SyntheticCamera LookAtCamera(const Eigen::Vector3d& center, const Eigen::Vector3
                              const Eigen::Vector3d& up, double roll, int width, int height,
                              double fx, double fy, double cx, double cy);
 
+struct ScenePointLight {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double power = 0;     // irradiance = power * cos / (d^2 + softness^2)
+  double softness = 0;  // metres
+};
+
 struct SceneLighting {
   double ambient = 0.3;
   Eigen::Vector3d sun_direction{0, 0, -1};  // direction the light travels
@@ -50,6 +56,8 @@ struct SceneLighting {
   double point_power = 0;  // irradiance = power * cos / (d^2 + softness^2)
   double point_softness = 0;  // metres; > 0 keeps nearby surfaces from saturating
   double exposure = 1.0;   // scales radiance before the tone curve
+  // Further point lights (e.g. a row of ceiling lamps), added after the one above.
+  std::vector<ScenePointLight> extra_point_lights;
 };
 
 struct SceneBackground {
@@ -75,6 +83,12 @@ struct RenderOptions {
   double offset = 0.0;       // 8-bit levels
   uint64_t noise_seed = 0;
   int num_threads = -1;      // -1 = all hardware threads
+  // Darkening of the image corners (radiance falls off as 1 - vignetting * r^2, r = 1 at
+  // the corner), 0 = off.
+  double vignetting = 0.0;
+  // Signal-dependent (shot) noise: the noise variance is noise_sigma^2 + shot_noise * I
+  // for 8-bit intensity I. 0 = constant Gaussian noise only.
+  double shot_noise = 0.0;
 };
 
 struct RenderedView {

@@ -2,63 +2,15 @@
 
 #include <cmath>
 
+#include "colmap_ext/synthetic/room_layouts.h"
 #include "colmap_ext/synthetic/synthetic_random.h"
+#include "colmap_ext/synthetic/world_builder.h"
 #include "colmap_ext/util/error.h"
 
 namespace mpmvs {
 namespace {
 
 using Eigen::Vector3d;
-
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-
-// Collects materials and primitives; material seeds derive from the scene seed.
-class WorldBuilder {
- public:
-  explicit WorldBuilder(uint64_t seed) : seed_(seed) {}
-
-  int Plain(const Vector3d& color) {
-    SurfaceMaterial m;
-    m.color_a = color;
-    return AddMaterial(m);
-  }
-  int Pattern(TexturePattern pattern, const Vector3d& a, const Vector3d& b, double scale,
-              const Vector3d& stripe_direction = Vector3d::UnitX()) {
-    SurfaceMaterial m;
-    m.pattern = pattern;
-    m.color_a = a;
-    m.color_b = b;
-    m.scale = scale;
-    m.stripe_direction = stripe_direction;
-    return AddMaterial(m);
-  }
-  int AddMaterial(SurfaceMaterial m) {
-    m.seed = SynthHash(seed_, 0x5eed0000ULL + world_.materials.size());
-    world_.materials.push_back(m);
-    return static_cast<int>(world_.materials.size()) - 1;
-  }
-  void Add(ScenePrimitive p, bool casts_shadow = true) {
-    p.casts_shadow = casts_shadow;
-    world_.geometry.Add(p);
-  }
-  SyntheticWorld& world() { return world_; }
-
- private:
-  uint64_t seed_;
-  SyntheticWorld world_;
-};
-
-// Box with explicit orthonormal axes (columns).
-ScenePrimitive OrientedBox(const Vector3d& center, const Eigen::Matrix3d& axes,
-                           const Vector3d& half, int material) {
-  ScenePrimitive p;
-  p.type = PrimitiveType::kBox;
-  p.material = material;
-  p.center = center;
-  p.axes = axes;
-  p.half_size = half;
-  return p;
-}
 
 struct Opening {
   double u0, v0, u1, v1;  // wall-local rectangle (metres from the wall centre)
@@ -113,9 +65,6 @@ void Intrinsics(const LayoutParams& p, double* fx, double* fy, double* cx, doubl
   *cx = 0.5 * p.width + 0.0125 * p.width;
   *cy = 0.5 * p.height - 0.01 * p.height;
 }
-
-// Position in [-0.5, 0.5] of camera i among n.
-double Spread(int i, int n) { return n <= 1 ? 0.0 : static_cast<double>(i) / (n - 1) - 0.5; }
 
 SyntheticLayout BuildIndoor(const LayoutParams& p) {
   WorldBuilder b(p.seed);
@@ -361,13 +310,25 @@ SyntheticLayout BuildPlane(const LayoutParams& p) {
 
 }  // namespace
 
-std::vector<std::string> SyntheticLayoutNames() { return {"indoor", "facade", "plane"}; }
+std::vector<std::string> SyntheticLayoutNames() {
+  std::vector<std::string> names = {"indoor", "facade", "plane"};
+  for (const std::string& room : RoomLayoutNames()) names.push_back(room);
+  return names;
+}
+
+std::string SyntheticLayoutNameList() {
+  std::string list;
+  for (const std::string& name : SyntheticLayoutNames()) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
 
 SyntheticLayout BuildSyntheticLayout(const LayoutParams& params) {
   if (params.scene == "indoor") return BuildIndoor(params);
   if (params.scene == "facade") return BuildFacade(params);
   if (params.scene == "plane") return BuildPlane(params);
-  throw Error("unknown synthetic scene '" + params.scene + "' (valid: indoor, facade, plane)");
+  if (IsRoomLayout(params.scene)) return BuildRoomLayout(params);
+  throw Error("unknown synthetic scene '" + params.scene + "' (valid: " + SyntheticLayoutNameList() +
+              ")");
 }
 
 }  // namespace mpmvs

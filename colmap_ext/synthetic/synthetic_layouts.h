@@ -4,7 +4,8 @@
 //           inside looking around with overlapping views;
 //   facade  an outdoor courtyard: large plain façade walls with recessed windows, a door,
 //           textured paving, poles, a tree, sky without depth;
-//   plane   one textured plane, optionally tilted away from all cameras (sanity case).
+//   plane   one textured plane, optionally tilted away from all cameras (sanity case);
+//   room_window, room_l, room_corridor   multi-view rooms (room_layouts.h).
 // World frame: z up, metres.
 #include <cstdint>
 #include <string>
@@ -33,6 +34,8 @@ struct SyntheticLayout {
 };
 
 std::vector<std::string> SyntheticLayoutNames();
+// The names joined by ", " (for messages).
+std::string SyntheticLayoutNameList();
 // Throws Error for an unknown scene name.
 SyntheticLayout BuildSyntheticLayout(const LayoutParams& params);
 

@@ -3,7 +3,7 @@
 // dense workspace (as `colmap image_undistorter --output_type COLMAP` leaves it) plus gt/:
 //
 //   DIR/images/NAME.png                       rendered RGB images
-//   DIR/sparse/{cameras,images,points3D}.{bin,txt}   PINHOLE cameras, SfM-like points
+//   DIR/sparse/{cameras,images,points3D}.{bin,txt}   PINHOLE cameras, SfM(-like) points
 //   DIR/stereo/patch-match.cfg, fusion.cfg, depth_maps/, normal_maps/, consistency_graphs/
 //   DIR/gt/depth_<stem>.pfm                   z-depth (m), 0 = no surface
 //   DIR/gt/untextured_<stem>.png              255 where the surface MATERIAL is plain
@@ -19,11 +19,14 @@
 #include "colmap_ext/io/ply_io.h"
 #include "colmap_ext/io/sparse_model.h"
 #include "colmap_ext/synthetic/scene_renderer.h"
+#include "colmap_ext/synthetic/synthetic_sparse.h"
 
 namespace mpmvs {
 
 struct SyntheticSceneOptions {
-  std::string scene = "indoor";  // indoor, facade, plane
+  // indoor, facade, plane, or a room (room_window, room_l, room_corridor). The defaults
+  // below are those of indoor/facade/plane; ForScene gives the rooms' defaults.
+  std::string scene = "indoor";
   int width = 320;
   int height = 240;
   int num_views = 5;
@@ -38,12 +41,25 @@ struct SyntheticSceneOptions {
   double sparse_noise_px = 0.5;  // noise of the sparse 2-D observations
   bool write_gt_points = true;   // gt/gt_points.ply
   int num_threads = -1;
+  // Where the sparse points come from: "simulated" (a detector model on the rendered images
+  // that knows the GT, synthetic_sparse.h) or "sift" (COLMAP's CPU SIFT features and
+  // matches triangulated with the known poses, sift_sparse.h; needs the colmap executable).
+  std::string sparse_source = "simulated";
+  double vignetting = 0.0;  // corner darkening, 0 = off (RenderOptions::vignetting)
+  double shot_noise = 0.0;  // signal-dependent noise variance per grey level, 0 = off
+
+  // Defaults for a scene: the rooms render 640x480 with 10 views and 2x2 supersampling,
+  // weaker and partly signal-dependent noise, slight vignetting and SIFT sparse points;
+  // other scenes get the defaults above.
+  static SyntheticSceneOptions ForScene(const std::string& scene);
 
   // Throws Error naming the offending option.
   void Check() const;
 };
 
 std::vector<std::string> SyntheticSceneNames();
+// The multi-view room family (a subset of SyntheticSceneNames()).
+std::vector<std::string> SyntheticRoomSceneNames();
 
 struct SyntheticViewStats {
   double gt_valid_fraction = 0;   // pixels with a surface
@@ -67,8 +83,12 @@ struct SyntheticScene {
   SyntheticSceneOptions options;
   std::vector<SyntheticView> views;
   SparseModel model;  // images in view order, ids 1..n
+  SparsePointLabels sparse_labels;  // where the sparse points lie, from the GT
   std::vector<double> plane_view_angles_deg;  // plane scene only
 };
+
+// Share of GT pixels (depth > 0) on plain material, over all views.
+double UntexturedShare(const SyntheticScene& scene);
 
 // Renders everything in memory.
 SyntheticScene RenderSyntheticScene(const SyntheticSceneOptions& options);

@@ -303,6 +303,39 @@ SparseModel SimulateSparseModel(const std::vector<SyntheticCamera>& cameras,
   return model;
 }
 
+SparsePointLabels LabelSparsePoints(const SparseModel& model,
+                                    const std::vector<SyntheticCamera>& cameras,
+                                    const std::vector<RenderedView>& views,
+                                    double depth_tolerance) {
+  SparsePointLabels labels;
+  for (const SparsePoint3D& point : model.points) {
+    const Eigen::Vector3d X(point.xyz[0], point.xyz[1], point.xyz[2]);
+    int seen = 0, agree = 0, untextured = 0;
+    for (const SparseTrackElement& t : point.track) {
+      const int v = model.FindImageById(t.image_id);
+      if (v < 0 || v >= static_cast<int>(cameras.size())) continue;
+      const SyntheticCamera& cam = cameras[v];
+      double x, y, z;
+      if (!cam.Project(X, &x, &y, &z)) continue;
+      const int col = static_cast<int>(std::lround(x)), row = static_cast<int>(std::lround(y));
+      if (col < 0 || row < 0 || col >= cam.width || row >= cam.height) continue;
+      ++seen;
+      const float gt = views[v].depth.At(row, col);
+      if (!(gt > 0) || std::abs(z - gt) > depth_tolerance * gt) continue;
+      ++agree;
+      untextured += views[v].untextured[static_cast<size_t>(row) * cam.width + col] != 0;
+    }
+    if (seen == 0 || 2 * agree < seen) {
+      ++labels.off_surface;
+    } else if (2 * untextured > agree) {
+      ++labels.on_untextured;
+    } else {
+      ++labels.on_textured;
+    }
+  }
+  return labels;
+}
+
 bool SparseDepthRange(const SparseModel& model, int image_index, double* depth_min,
                       double* depth_max) {
   const SparseImage& image = model.images.at(image_index);

@@ -33,6 +33,22 @@ SparseModel SimulateSparseModel(const std::vector<SyntheticCamera>& cameras,
                                 const std::vector<RenderedView>& views,
                                 const SparseSimulationOptions& options);
 
+// Where a model's points lie according to the GT. In each view of its track a point is
+// projected (MVS convention) to its nearest pixel; it agrees there when its depth is within
+// depth_tolerance (relative) of the GT depth. A point is on a surface when it agrees in at
+// least half of the views it projects into, and on an untextured surface when most of those
+// agreeing pixels are marked untextured.
+struct SparsePointLabels {
+  int on_textured = 0;
+  int on_untextured = 0;
+  int off_surface = 0;  // depth disagrees with the GT: a wrong match or a poor triangulation
+};
+// cameras/views in the model's image order.
+SparsePointLabels LabelSparsePoints(const SparseModel& model,
+                                    const std::vector<SyntheticCamera>& cameras,
+                                    const std::vector<RenderedView>& views,
+                                    double depth_tolerance = 0.03);
+
 // COLMAP's patch-match depth range for image `image_index` of the model: sorted z of its
 // observed points, 0.75 * z[floor(0.01 n)], 1.25 * z[floor(0.99 n)]; false without points.
 bool SparseDepthRange(const SparseModel& model, int image_index, double* depth_min,
