@@ -354,6 +354,27 @@ std::vector<std::string> WriteEvaluationPictures(const WorkspaceEvaluation& eval
       tiles.push_back(NormalPicture(normal_on_gt, "estimated normals"));
     }
     if (!v.untextured.empty()) {
+      // Where walls go wrong: the same errors on untextured pixels only, and the planar
+      // prior's own error there (is the prior right?) when the run kept its model.
+      std::vector<float> untextured_error(error.size(), std::nanf(""));
+      for (size_t i = 0; i < error.size(); ++i) {
+        if (v.untextured[i]) untextured_error[i] = error[i];
+      }
+      eo.title = "error on untextured pixels";
+      tiles.push_back(ScalarPicture(untextured_error, W, H, eo));
+      const std::string prior_path =
+          JoinPaths(evaluation.workspace_path, "stereo/mpmvs/pictures/" + v.name + ".prior.prior_model.bin");
+      if (FileExists(prior_path)) {
+        const FloatMap prior = SampleOnto(ReadFloatMap(prior_path, 1), W, H, 0);
+        std::vector<float> prior_error(error.size(), std::nanf(""));
+        for (size_t i = 0; i < error.size(); ++i) {
+          const float g = v.depth.data[i], z = prior.data[i];
+          if (!v.untextured[i] || !(std::isfinite(g) && g > 0)) continue;
+          prior_error[i] = z > 0 ? std::abs(z - g) / g : -std::numeric_limits<float>::infinity();
+        }
+        eo.title = "planar prior error, untextured";
+        tiles.push_back(ScalarPicture(prior_error, W, H, eo));
+      }
       RgbImage mask = MakeRgbImage(W, H, RgbColor{0, 0, 0});
       for (size_t i = 0; i < v.untextured.size(); ++i) {
         const uint8_t m = v.untextured[i] ? 255 : 0;

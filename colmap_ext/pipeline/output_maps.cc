@@ -78,8 +78,14 @@ void WriteStagePictures(const DenseWorkspace& workspace, const ReferenceProblem&
     FloatMap prior_depth(result.width, result.height, 1);
     prior_depth.data = PriorDepthMap(*prior, camera);
     WriteFloatMap(base + ".prior_model.bin", prior_depth);
-    WriteDepthPicture(base + ".prior_model.png", prior_depth, problem.depth_min, problem.depth_max,
-                      name + " planar prior");
+    RgbImage picture = DepthPicture(prior_depth, problem.depth_min, problem.depth_max,
+                                    name + " planar prior and vertices");
+    // The picture has a title band above the map: find the map's top-left by its size.
+    const int top = picture.height - result.height;
+    for (const PlanarPriorVertex& vertex : prior->vertices) {
+      FillRect(&picture, vertex.u, top + vertex.v, 1, 1, RgbColor{255, 255, 255});
+    }
+    WriteRgbPng(base + ".prior_model.png", picture);
   }
 }
 
