@@ -308,10 +308,59 @@ SyntheticLayout BuildPlane(const LayoutParams& p) {
   return layout;
 }
 
+// A plain wall lit by a lamp in front of it (smooth shading, no texture) inside a frame of
+// textured posters on the same plane, two textured boxes standing in front: the planar
+// prior's case, where only the frame and the boxes can be matched.
+SyntheticLayout BuildPlainWall(const LayoutParams& p) {
+  WorldBuilder b(p.seed);
+  const int plain = b.Plain({0.78, 0.76, 0.72});
+  const int poster = b.Pattern(TexturePattern::kMixed, {0.15, 0.2, 0.45}, {0.9, 0.85, 0.7}, 0.06);
+  const int box = b.Pattern(TexturePattern::kStripes, {0.5, 0.25, 0.15}, {0.9, 0.8, 0.5}, 0.05);
+  // The wall is the plane y = 0 seen from y < 0; the frame lies 1 mm in front of it.
+  const Vector3d u = Vector3d::UnitX(), v = Vector3d::UnitZ();
+  b.Add(MakeQuad(Vector3d::Zero(), u, v, 3.0, 2.0, plain));
+  const double f = -0.001;
+  b.Add(MakeQuad(Vector3d(0, f, 0.95), u, v, 1.4, 0.18, poster));    // top
+  b.Add(MakeQuad(Vector3d(0, f, -0.95), u, v, 1.4, 0.18, poster));   // bottom
+  b.Add(MakeQuad(Vector3d(-1.22, f, 0), u, v, 0.18, 0.77, poster));  // left
+  b.Add(MakeQuad(Vector3d(1.22, f, 0), u, v, 0.18, 0.77, poster));   // right
+  b.Add(MakeBox(Vector3d(-0.9, -0.9, -1.15), Vector3d(-0.5, -0.5, -0.75), box));
+  b.Add(MakeBox(Vector3d(0.5, -0.75, -1.15), Vector3d(0.9, -0.35, -0.75), box));
+
+  SyntheticWorld& w = b.world();
+  w.lighting.ambient = 0.25;
+  w.lighting.sun_intensity = 0.0;
+  w.lighting.has_point_light = true;
+  w.lighting.point_position = Vector3d(-0.8, -1.8, 1.1);
+  w.lighting.point_power = 2.5;
+  w.lighting.point_softness = 0.5;
+  w.lighting.exposure = 0.9;
+  w.background.color = Vector3d(0.3, 0.3, 0.3);
+  w.geometry.Build();
+
+  SyntheticLayout layout;
+  layout.world = std::move(b.world());
+  double fx, fy, cx, cy;
+  Intrinsics(p, &fx, &fy, &cx, &cy);
+  SynthRng rng(SynthHash(p.seed, 0x3a11ULL));
+  for (int i = 0; i < p.num_views; ++i) {
+    const double azimuth = (Spread(i, p.num_views) * 40.0 + rng.Uniform(-1, 1)) * kDegToRad;
+    const double elevation = rng.Uniform(-3.0, 3.0) * kDegToRad;
+    const double distance = 3.0;
+    const Vector3d center = distance * Vector3d(std::sin(azimuth) * std::cos(elevation),
+                                                -std::cos(azimuth) * std::cos(elevation),
+                                                std::sin(elevation));
+    const Vector3d target(rng.Uniform(-0.1, 0.1), 0, rng.Uniform(-0.1, 0.1));
+    layout.cameras.push_back(LookAtCamera(center, target, Vector3d::UnitZ(), rng.Uniform(-3, 3) * kDegToRad,
+                                          p.width, p.height, fx, fy, cx, cy));
+  }
+  return layout;
+}
+
 }  // namespace
 
 std::vector<std::string> SyntheticLayoutNames() {
-  std::vector<std::string> names = {"indoor", "facade", "plane"};
+  std::vector<std::string> names = {"indoor", "facade", "plane", "plain_wall"};
   for (const std::string& room : RoomLayoutNames()) names.push_back(room);
   return names;
 }
@@ -326,6 +375,7 @@ SyntheticLayout BuildSyntheticLayout(const LayoutParams& params) {
   if (params.scene == "indoor") return BuildIndoor(params);
   if (params.scene == "facade") return BuildFacade(params);
   if (params.scene == "plane") return BuildPlane(params);
+  if (params.scene == "plain_wall") return BuildPlainWall(params);
   if (IsRoomLayout(params.scene)) return BuildRoomLayout(params);
   throw Error("unknown synthetic scene '" + params.scene + "' (valid: " + SyntheticLayoutNameList() +
               ")");

@@ -5,6 +5,8 @@
 //   facade  an outdoor courtyard: large plain façade walls with recessed windows, a door,
 //           textured paving, poles, a tree, sky without depth;
 //   plane   one textured plane, optionally tilted away from all cameras (sanity case);
+//   plain_wall  a plain, lamp-lit wall framed by textured posters, two boxes in front
+//           (the planar prior's case: only the frame and the boxes can be matched);
 //   room_window, room_l, room_corridor   multi-view rooms (room_layouts.h).
 // World frame: z up, metres.
 #include <cstdint>
