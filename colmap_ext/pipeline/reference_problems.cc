@@ -6,6 +6,12 @@
 #include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
+namespace {
+
+// Factors on COLMAP's sparse depth range: 0.75 -> 0.25 and 1.25 -> 2.
+constexpr double kSparseRangeWidening[2] = {0.25 / 0.75, 2.0 / 1.25};
+
+}  // namespace
 
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
                                         const PatchMatchStereoOptions& colmap_options,
@@ -24,8 +30,11 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
       p.depth_min = static_cast<float>(colmap_options.depth_min);
       p.depth_max = static_cast<float>(colmap_options.depth_max);
     } else {
-      p.depth_min = static_cast<float>(view.depth_min);
-      p.depth_max = static_cast<float>(view.depth_max);
+      // COLMAP's range (0.75 x 1st .. 1.25 x 99th percentile of the sparse depths) widened
+      // to 0.25 x 1st .. 2 x 99th: floors, ceilings and walls near the camera lie closer than
+      // any sparse point (kernels/DESIGN.md item 14).
+      p.depth_min = static_cast<float>(view.depth_min * kSparseRangeWidening[0]);
+      p.depth_max = static_cast<float>(view.depth_max * kSparseRangeWidening[1]);
     }
     if (p.src.empty()) {
       LogWarning("skipping " + view.name + ": no source images (patch-match.cfg / shared sparse points)");
