@@ -311,9 +311,11 @@ RgbImage DenseWorkspace::ReadRgb(int view_idx) const {
 }
 
 void CheckDenseWorkspaceFolders(const std::string& path) {
+  if (FileExists(path)) ThrowFileError(path, "is a file, not a folder: give the dense workspace folder");
   if (!DirectoryExists(path)) ThrowFileError(path, "dense workspace folder does not exist");
   for (const char* sub : {"images", "sparse", "stereo"}) {
     const std::string dir = JoinPaths(path, sub);
+    if (FileExists(dir)) ThrowFileError(dir, "is a file, not a folder, so this is not a COLMAP dense workspace");
     if (!DirectoryExists(dir)) {
       ThrowFileError(dir, "folder is missing, so this is not a COLMAP dense workspace; create "
                           "one with `colmap image_undistorter --output_type COLMAP`");

@@ -109,6 +109,27 @@ FloatMap ReadFloatMap(const std::string& path, int expected_channels) {
   return map;
 }
 
+std::string CheckFloatMapFile(const std::string& path, int width, int height, int channels) {
+  try {
+    std::ifstream file;
+    const MatHeader header = ReadMatHeader(path, &file);
+    const std::string expected = HeaderText(width, height, channels);
+    if (header.width != static_cast<uint64_t>(width) || header.height != static_cast<uint64_t>(height) ||
+        header.channels != static_cast<uint64_t>(channels)) {
+      return "header says " + HeaderText(header.width, header.height, header.channels) + ", expected " + expected;
+    }
+    const uint64_t expected_bytes =
+        header.header_bytes + static_cast<uint64_t>(width) * height * channels * sizeof(float);
+    if (header.file_bytes != expected_bytes) {
+      return "file holds " + std::to_string(header.file_bytes) + " bytes, a " + expected + " map holds " +
+             std::to_string(expected_bytes) + " (truncated or corrupt)";
+    }
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 void WriteFloatMap(const std::string& path, const FloatMap& map) {
   if (map.width <= 0 || map.height <= 0 || map.channels <= 0 ||
       map.data.size() != static_cast<size_t>(map.width) * map.height * map.channels) {

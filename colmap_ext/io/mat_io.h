@@ -31,6 +31,9 @@ struct FloatMap {
 // match the file length (checked before allocating) or a channel count other than
 // expected_channels (when >= 1).
 FloatMap ReadFloatMap(const std::string& path, int expected_channels = -1);
+// "" when path holds a complete width x height x channels map (header and payload length
+// only, the values are not read); else why not ("file does not exist", "header says ...").
+std::string CheckFloatMapFile(const std::string& path, int width, int height, int channels);
 // Atomic write (temporary + rename).
 void WriteFloatMap(const std::string& path, const FloatMap& map);
 

@@ -10,10 +10,12 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 // The binary files are little-endian; values are copied byte-wise from/to host memory.
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "mp-mvs assumes a little-endian host");
@@ -421,6 +423,10 @@ void ValidateModel(const SparseModel& model, const std::string& cameras_path,
                                       cameras_path);
     }
   }
+  std::unordered_map<uint32_t, size_t> num_points2D;  // image id -> its 2D points
+  for (const SparseImage& image : model.images) num_points2D[image.image_id] = image.points2D.size();
+  size_t bad_indices = 0;
+  std::string first_bad;
   std::unordered_set<uint64_t> point_ids;
   for (const SparsePoint3D& point : model.points) {
     if (!point_ids.insert(point.point3D_id).second) {
@@ -434,7 +440,19 @@ void ValidateModel(const SparseModel& model, const std::string& cameras_path,
                                         std::to_string(element.image_id) + ", which is not in " +
                                         images_path);
       }
+      // The dense stages use only the track's image ids (as COLMAP's mvs::Model), so an
+      // index past the image's 2D points is reported, not fatal.
+      if (element.point2D_idx >= num_points2D[element.image_id] && bad_indices++ == 0) {
+        first_bad = "3D point " + std::to_string(point.point3D_id) + " names 2D point " +
+                    std::to_string(element.point2D_idx) + " of image id " + std::to_string(element.image_id) +
+                    ", which has " + std::to_string(num_points2D[element.image_id]);
+      }
     }
+  }
+  if (bad_indices > 0) {
+    LogWarning(points_path + ": " + std::to_string(bad_indices) +
+               " track entries name a 2D point their image does not have (first: " + first_bad +
+               "); the model may be damaged or mixed from two reconstructions");
   }
 }
 

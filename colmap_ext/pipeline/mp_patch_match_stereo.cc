@@ -4,6 +4,7 @@
 #include <exception>
 #include <map>
 #include <memory>
+#include <set>
 #include <utility>
 
 #include "colmap_ext/io/workspace_io.h"
@@ -13,6 +14,7 @@
 #include "colmap_ext/pipeline/run_plan.h"
 #include "colmap_ext/pipeline/stage_reference.h"
 #include "colmap_ext/pipeline/stage_store.h"
+#include "colmap_ext/pipeline/state_record.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
@@ -42,6 +44,10 @@ class Controller {
  private:
   // Whether every runnable reference already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
+  // needed_: which stage results each reference must have, its own final maps being done
+  // or not: a reference to compute needs every stage, and each stage the results of its
+  // input stage (its own and, in geometric stages, its sources').
+  void PlanNeededStates();
   void CreateOutputDirectories() const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   // Output filter, geometric invalidation and the COLMAP maps of a stage that writes them.
@@ -52,6 +58,9 @@ class Controller {
   RunPlan plan_;
   DenseWorkspace workspace_;
   std::vector<ReferenceProblem> problems_;
+  std::vector<char> done_;                  // final maps whole at the start (kept)
+  std::vector<std::vector<char>> needed_;   // [problem][stage]
+  std::set<int> written_;                   // views whose final maps this run wrote
   std::unique_ptr<StageStore> store_;
   std::unique_ptr<Backend> backend_;
 };
@@ -75,11 +84,19 @@ MpPatchMatchSummary Controller::Run() {
   problems_ = std::move(loaded.runnable);
   summary.num_skipped_no_sources = loaded.num_skipped_no_sources;
   summary.num_skipped_no_depth_range = loaded.num_skipped_no_depth_range;
+  summary.num_skipped_missing_files = loaded.num_skipped_missing_files;
   summary.num_references = static_cast<int>(problems_.size()) + summary.num_skipped_no_sources +
-                           summary.num_skipped_no_depth_range;
-  std::map<int, std::pair<float, float>> depth_ranges;
-  for (const ReferenceProblem& p : problems_) depth_ranges[p.ref] = {p.depth_min, p.depth_max};
-  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, std::move(depth_ranges));
+                           summary.num_skipped_no_depth_range + summary.num_skipped_missing_files;
+  if (problems_.empty()) {
+    LogWarning("No reference image can run (" + std::to_string(summary.num_references) +
+               " listed, all skipped as warned above); nothing written");
+    summary.seconds = SecondsSince(start);
+    return summary;
+  }
+  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, StateOptionsText(run_.options));
+  if (!plan_.overwrite) {
+    for (const ReferenceProblem& p : problems_) store_->MoveAsideDamagedFinalOutputs(p.ref);
+  }
 
   if (AllFinalMapsExist()) {
     summary.num_already_done = static_cast<int>(problems_.size());
@@ -89,11 +106,18 @@ MpPatchMatchSummary Controller::Run() {
     return summary;
   }
   for (const ReferenceProblem& p : problems_) {
-    if (store_->FinalOutputsExist(p.ref, plan_.final_type) && !plan_.overwrite) ++summary.num_already_done;
+    done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
+    summary.num_already_done += done_.back();
   }
+  PlanNeededStates();
 
   backend_ = std::make_unique<Backend>(plan_.backend);
   summary.backend = backend_->Name();
+  if (plan_.backend.gpu_index >= 0 && backend_->Name().rfind("CPU", 0) == 0) {
+    // COLMAP scripts pass gpu_index 0 on machines without a GPU: keep running, but say so.
+    LogWarning("--PatchMatchStereo.gpu_index " + run_.colmap_options.gpu_index +
+               ": no such usable CUDA device; running on the CPU instead");
+  }
   CreateOutputDirectories();
   std::string stage_names;
   for (const StagePlan& st : plan_.pipeline.stages) stage_names += (stage_names.empty() ? "" : " -> ") + st.name;
@@ -103,7 +127,7 @@ MpPatchMatchSummary Controller::Run() {
   for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) RunStage(static_cast<int>(s), &summary);
   backend_->LogCacheStats();
 
-  summary.num_written = static_cast<int>(problems_.size()) - summary.num_already_done;
+  summary.num_written = static_cast<int>(written_.size());
   summary.seconds = SecondsSince(start);
   return summary;
 }
@@ -111,11 +135,32 @@ MpPatchMatchSummary Controller::Run() {
 bool Controller::AllFinalMapsExist() const {
   if (plan_.overwrite) return false;
   for (const ReferenceProblem& p : problems_) {
-    if (!store_->FinalOutputsExist(p.ref, plan_.final_type) || !store_->FinalOutputsExist(p.ref, "photometric")) {
-      return false;
-    }
+    if (!store_->AllFinalOutputsExist(p.ref)) return false;
   }
   return true;
+}
+
+void Controller::PlanNeededStates() {
+  const std::vector<StagePlan>& stages = plan_.pipeline.stages;
+  std::map<int, size_t> index;
+  for (size_t i = 0; i < problems_.size(); ++i) index.emplace(problems_[i].ref, i);
+  needed_.assign(problems_.size(), std::vector<char>(stages.size(), 0));
+  for (size_t i = 0; i < problems_.size(); ++i) {
+    if (!done_[i]) needed_[i].assign(stages.size(), 1);
+  }
+  for (int s = static_cast<int>(stages.size()) - 1; s >= 0; --s) {
+    const int input = stages[s].input;
+    if (input < 0) continue;
+    for (size_t i = 0; i < problems_.size(); ++i) {
+      if (!needed_[i][s]) continue;
+      needed_[i][input] = 1;
+      if (!stages[s].schedule.geometric) continue;
+      for (int src : problems_[i].src) {
+        const auto it = index.find(src);
+        if (it != index.end()) needed_[it->second][input] = 1;
+      }
+    }
+  }
 }
 
 void Controller::CreateOutputDirectories() const {
@@ -141,7 +186,10 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
              ": " + stage.name + " (" + StageKindName(stage.kind) + ", " +
              std::to_string(stage.schedule.iterations.size()) + " iterations)");
   ProgressReporter progress("stage " + stage.name, static_cast<int>(problems_.size()));
-  auto prepare = [&](size_t i) { return PrepareStageReference(plan_, workspace_, store_.get(), stage_index, problems_[i]); };
+  auto prepare = [&](size_t i) {
+    return PrepareStageReference(plan_, workspace_, store_.get(), stage_index, problems_[i], done_[i],
+                                 needed_[i][stage_index]);
+  };
 
   // The next reference image, when the backend had it assembled while this one ran (CUDA:
   // its uploads overlap this image's kernels). Only within a stage: the first image of the
@@ -199,6 +247,7 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
 void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result) {
   const StagePlan& stage = plan_.pipeline.stages[stage_index];
   const ReferenceProblem& p = *ref.problem;
+  if (!ref.write_final) return;  // kept from an earlier run; computed for another reference
   if (ref.filter_here && !ref.pm.sources.empty()) {
     const size_t removed =
         kernels::FilterResultCpu(ref.pm, stage.schedule.geometric, plan_.filter_params, plan_.num_threads, result);
@@ -208,11 +257,13 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
+    if (plan_.final_type == "photometric") written_.insert(p.ref);
   }
   if (stage_index == plan_.pipeline.geometric_output) {
     kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, result);
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
+    written_.insert(p.ref);
   }
 }
 

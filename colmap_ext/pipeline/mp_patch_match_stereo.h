@@ -31,10 +31,11 @@ struct StageSummary {
 
 struct MpPatchMatchSummary {
   int num_references = 0;
-  int num_written = 0;           // references whose final maps were written in this run
+  int num_written = 0;           // references whose final maps were written in this run (once each)
   int num_already_done = 0;      // final maps existed (rerun)
   int num_skipped_no_sources = 0;
   int num_skipped_no_depth_range = 0;
+  int num_skipped_missing_files = 0;  // --PatchMatchStereo.allow_missing_files
   std::string backend;
   double seconds = 0;
   std::vector<StageSummary> stages;

@@ -1,5 +1,7 @@
 #include "colmap_ext/pipeline/reference_problems.h"
 
+#include <set>
+
 #include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
@@ -20,12 +22,41 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
       config_path.empty() ? JoinPaths(workspace.path, "stereo/patch-match.cfg") : config_path;
   if (!FileExists(cfg)) ThrowFileError(cfg, "patch-match configuration not found");
   ReferenceProblems problems;
+  // A missing picture: an Error before any work, or skipped with allow_missing_files.
+  auto image_missing = [&](int v, const std::string& role) {
+    const DenseView& view = workspace.views[v];
+    if (FileExists(view.image_path)) return false;
+    if (!colmap_options.allow_missing_files) {
+      ThrowFileError(view.image_path, "image of " + role + " " + view.name +
+                                          " is missing; restore it, or rerun with "
+                                          "--PatchMatchStereo.allow_missing_files 1 to skip it");
+    }
+    return true;
+  };
+  std::set<int> listed;
   for (const StereoProblem& spec : ReadPatchMatchConfig(cfg, workspace, colmap_options.min_triangulation_angle)) {
     ReferenceProblem p;
     p.ref = spec.ref;
-    p.src = spec.src;
-    if (static_cast<int>(p.src.size()) > max_source_images) p.src.resize(max_source_images);
     const DenseView& view = workspace.views[p.ref];
+    if (!listed.insert(p.ref).second) {
+      LogWarning(cfg + ": reference " + view.name + " is listed more than once; its later entries are ignored");
+      continue;
+    }
+    if (image_missing(p.ref, "reference")) {
+      LogWarning("skipping " + view.name + ": its image " + view.image_path +
+                 " is missing (--PatchMatchStereo.allow_missing_files)");
+      ++problems.num_skipped_missing_files;
+      continue;
+    }
+    for (int src : spec.src) {
+      if (image_missing(src, "source")) {
+        LogWarning(view.name + ": source " + workspace.views[src].name + " left out, its image " +
+                   workspace.views[src].image_path + " is missing (--PatchMatchStereo.allow_missing_files)");
+      } else {
+        p.src.push_back(src);
+      }
+    }
+    if (static_cast<int>(p.src.size()) > max_source_images) p.src.resize(max_source_images);
     if (colmap_options.depth_min > 0) {
       p.depth_min = static_cast<float>(colmap_options.depth_min);
       p.depth_max = static_cast<float>(colmap_options.depth_max);

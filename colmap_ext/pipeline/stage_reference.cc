@@ -66,14 +66,15 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
 
 std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const DenseWorkspace& workspace,
                                                       StageStore* store, int stage_index,
-                                                      const ReferenceProblem& p) {
+                                                      const ReferenceProblem& p, bool done, bool state_needed) {
   const StagePlan& stage = plan.pipeline.stages[stage_index];
   auto ref = std::make_unique<StageReference>();
   ref->problem = &p;
-  if (store->FinalOutputsExist(p.ref, plan.final_type) && !plan.overwrite) {
+  if (done && (!state_needed || store->HasState(p.ref, stage.name))) {
     ref->action = StageReference::Action::kFinalMapsExist;
     return ref;
   }
+  ref->write_final = !done;
   const bool writes_photometric = stage_index == plan.pipeline.photometric_output;
   const bool writes_geometric = stage_index == plan.pipeline.geometric_output;
   kernels::PatchMatchProblem& problem = ref->pm;
@@ -84,9 +85,9 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   problem.depth_min = p.depth_min;
   problem.depth_max = p.depth_max;
 
-  const bool have_state = store->HasState(p.ref, stage.name) && !plan.overwrite;
-  ref->filter_here =
-      plan.filter && (writes_geometric || (writes_photometric && plan.pipeline.geometric_output < 0));
+  const bool have_state = !plan.overwrite && store->HasState(p.ref, stage.name);
+  ref->filter_here = ref->write_final && plan.filter &&
+                     (writes_geometric || (writes_photometric && plan.pipeline.geometric_output < 0));
   // Images and source depth maps: needed to compute the stage, and by the output filter.
   const std::string input_stage = stage.input >= 0 ? plan.pipeline.stages[stage.input].name : "";
   if (!have_state || ref->filter_here) {
@@ -96,7 +97,8 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
     ref->action = StageReference::Action::kResume;
     return ref;
   }
-  if (problem.sources.empty()) {
+  // No sources, or no result of the input stage to start from (it had no sources there).
+  if (problem.sources.empty() || (stage.input >= 0 && !store->HasState(p.ref, input_stage))) {
     ref->action = StageReference::Action::kNoSources;
     return ref;
   }

@@ -20,6 +20,9 @@ struct StageReference {
   Action action = Action::kCompute;
   const ReferenceProblem* problem = nullptr;
   bool filter_here = false;  // the output filter runs on this stage's written maps
+  // False for a reference whose final maps were whole at the start: it is computed only
+  // for the state another reference needs, and its maps are kept.
+  bool write_final = true;
   kernels::PatchMatchProblem pm;
   std::vector<std::shared_ptr<const GrayImage>> images;
   std::shared_ptr<const std::vector<float>> chroma;  // pm.ref_image.chroma
@@ -29,9 +32,12 @@ struct StageReference {
 };
 
 // Loads and assembles reference image p for stage stage_index; decides whether it is
-// computed, resumed or skipped. Throws Error naming the file on damaged input.
+// computed, resumed or skipped. done: p's final maps were whole at the start of the run
+// (and are kept); state_needed: another reference needs this stage's result of p, so a
+// done reference without a usable state computes it. Throws Error naming the file on
+// damaged input.
 std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const DenseWorkspace& workspace,
                                                       StageStore* store, int stage_index,
-                                                      const ReferenceProblem& p);
+                                                      const ReferenceProblem& p, bool done, bool state_needed);
 
 }  // namespace mpmvs

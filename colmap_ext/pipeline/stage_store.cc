@@ -1,12 +1,16 @@
 #include "colmap_ext/pipeline/stage_store.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
 
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/pipeline/chroma_guide.h"
 #include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {
@@ -64,11 +68,11 @@ std::vector<float> ResultDepth(const kernels::PatchMatchResult& result, const ke
 }
 
 StageStore::StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const RunPlan& plan,
-                       std::map<int, std::pair<float, float>> depth_ranges)
+                       const std::vector<ReferenceProblem>& problems, const std::string& options_text)
     : workspace_(workspace),
       io_(io),
       plan_(plan),
-      depth_ranges_(std::move(depth_ranges)),
+      options_text_(options_text),
       images_(plan.cache_bytes / 3, [this](const int& view) { return io_->ReadGray(workspace_, view); },
               [](const GrayImage& img) { return CacheBytes(img.data); }),
       chroma_guides_(plan.cache_bytes / 3, [this](const int& view) { return ReadChromaGuide(view); },
@@ -76,18 +80,102 @@ StageStore::StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const R
       depths_(plan.cache_bytes / 3,
               [this](const std::pair<int, int>& key) {
                 const int view = key.second;
-                const std::pair<float, float> range = depth_ranges_.at(view);
+                const ReferenceProblem& p = problems_.at(view);
                 return ResultDepth(ReadState(view, plan_.pipeline.stages[key.first].name),
-                                   ToKernelCamera(workspace_.views[view]), range.first, range.second);
+                                   ToKernelCamera(workspace_.views[view]), p.depth_min, p.depth_max);
               },
-              CacheBytes) {}
+              CacheBytes) {
+  for (const ReferenceProblem& p : problems) problems_.emplace(p.ref, p);
+}
 
 std::string StageStore::StatePath(int view, const std::string& stage) const {
   return JoinPaths(workspace_.IntermediateDir(), workspace_.views[view].name + "." + stage + ".state.bin");
 }
 
-bool StageStore::HasState(int view, const std::string& stage) const {
-  return depth_ranges_.count(view) && FileExists(StatePath(view, stage));
+std::string StageStore::StateRecordPath(int view, const std::string& stage) const {
+  return JoinPaths(workspace_.IntermediateDir(), workspace_.views[view].name + "." + stage + ".state.json");
+}
+
+bool StageStore::HasState(int view, const std::string& stage) {
+  if (!problems_.count(view) || !FileExists(StatePath(view, stage))) return false;
+  const auto key = std::make_pair(view, stage);
+  auto it = state_usable_.find(key);
+  if (it == state_usable_.end()) {
+    const std::string why = CheckState(view, stage);
+    if (!why.empty()) LogWarning(StatePath(view, stage) + ": not resumed, " + why + "; recomputing it");
+    it = state_usable_.emplace(key, why.empty()).first;
+  }
+  return it->second;
+}
+
+std::string StageStore::CheckState(int view, const std::string& stage) {
+  StateRecord record;
+  std::string why;
+  if (!ReadStateRecord(StateRecordPath(view, stage), &record, &why)) return why;
+  const StateRecord expected = ExpectedRecord(view, stage);
+  if (record.stage != stage || record.width != expected.width || record.height != expected.height) {
+    return "its record is of stage " + record.stage + " at " + std::to_string(record.width) + "x" +
+           std::to_string(record.height) + ", expected " + stage + " at " + std::to_string(expected.width) + "x" +
+           std::to_string(expected.height);
+  }
+  if (record.options != expected.options) return "it was made with other --MPMVS options";
+  if (record.inputs != expected.inputs) {
+    return "it was made from other images, cameras, depth range or source images";
+  }
+  try {
+    const FloatMap state = ReadFloatMap(StatePath(view, stage), kStateChannels);
+    if (state.width != expected.width || state.height != expected.height) return "its size differs from the image";
+    if (StateChecksum(state) != record.checksum) return "its values do not match its checksum (damaged)";
+  } catch (const Error& e) {
+    return std::string("it is damaged (") + e.what() + ")";
+  }
+  return "";
+}
+
+StateRecord StageStore::ExpectedRecord(int view, const std::string& stage) {
+  StateRecord record;
+  record.stage = stage;
+  record.width = workspace_.views[view].width;
+  record.height = workspace_.views[view].height;
+  // The stage and the stages it builds on: their names and kinds follow from the options.
+  std::string chain;
+  for (int s = 0; s < static_cast<int>(plan_.pipeline.stages.size()); ++s) {
+    if (plan_.pipeline.stages[s].name != stage) continue;
+    for (int k = s; k >= 0; k = plan_.pipeline.stages[k].input) {
+      chain += plan_.pipeline.stages[k].name + "/" + StageKindName(plan_.pipeline.stages[k].kind) + " ";
+    }
+  }
+  record.options = HashText(options_text_ + "stages " + chain + "\n");
+  const ReferenceProblem& p = problems_.at(view);
+  char range[64];
+  std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
+  std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
+  for (int src : p.src) inputs += "source " + ViewIdentity(src);
+  record.inputs = HashText(inputs);
+  return record;
+}
+
+std::string StageStore::ViewIdentity(int view) {
+  auto it = view_identities_.find(view);
+  if (it != view_identities_.end()) return it->second;
+  const DenseView& v = workspace_.views[view];
+  std::ostringstream s;
+  s.precision(17);
+  s << v.name << " " << v.width << "x" << v.height << " K";
+  for (double x : v.K) s << " " << x;
+  s << " R";
+  for (double x : v.R) s << " " << x;
+  s << " T";
+  for (double x : v.T) s << " " << x;
+  // The picture's bytes (a missing or unreadable picture fails later, where it is read).
+  uint64_t image_hash = 0;
+  try {
+    const std::vector<uint8_t> bytes = ReadFileBytes(v.image_path);
+    image_hash = HashBytes(bytes.data(), bytes.size());
+  } catch (const Error&) {
+  }
+  s << " image " << image_hash << "\n";
+  return view_identities_.emplace(view, s.str()).first->second;
 }
 
 kernels::PatchMatchResult StageStore::ReadState(int view, const std::string& stage) const {
@@ -95,18 +183,81 @@ kernels::PatchMatchResult StageStore::ReadState(int view, const std::string& sta
   const FloatMap state = ReadFloatMap(path, kStateChannels);
   const DenseView& v = workspace_.views[view];
   if (state.width != v.width || state.height != v.height) {
-    ThrowFileError(path, "size differs from the image; delete stereo/mpmvs to start over");
+    ThrowFileError(path, "size differs from the image; delete the folder stereo/mpmvs (intermediate results "
+                         "only) or rerun with --MPMVS.overwrite 1");
   }
   return StateToResult(state);
 }
 
-void StageStore::WriteState(int view, const std::string& stage, const kernels::PatchMatchResult& result) const {
-  WriteFloatMap(StatePath(view, stage), ResultToState(result));
+void StageStore::WriteState(int view, const std::string& stage, const kernels::PatchMatchResult& result) {
+  const FloatMap state = ResultToState(result);
+  StateRecord record = ExpectedRecord(view, stage);
+  record.checksum = StateChecksum(state);
+  // A record left from an earlier state would not match the new values anyway (checksum);
+  // removing it first keeps an interrupted write from looking like a known state.
+  std::error_code ec;
+  std::filesystem::remove(StateRecordPath(view, stage), ec);
+  WriteFloatMap(StatePath(view, stage), state);
+  WriteStateRecord(StateRecordPath(view, stage), record);
+  state_usable_[{view, stage}] = true;
+}
+
+std::vector<std::pair<std::string, std::string>> StageStore::DamagedFinalOutputs(int view,
+                                                                                 const std::string& type) const {
+  const DenseView& v = workspace_.views[view];
+  std::vector<std::pair<std::string, std::string>> damaged;
+  const std::pair<std::string, int> maps[2] = {{workspace_.DepthMapPath(view, type), 1},
+                                               {workspace_.NormalMapPath(view, type), 3}};
+  for (const auto& map : maps) {
+    if (!FileExists(map.first)) continue;
+    const std::string why = CheckFloatMapFile(map.first, v.width, v.height, map.second);
+    if (!why.empty()) damaged.emplace_back(map.first, why);
+  }
+  const std::string graph_path = workspace_.ConsistencyGraphPath(view, type);
+  if (plan_.write_consistency_graph && FileExists(graph_path)) {
+    try {
+      const ConsistencyGraph graph = ReadConsistencyGraph(graph_path);
+      if (graph.width != v.width || graph.height != v.height) {
+        damaged.emplace_back(graph_path, "it is " + std::to_string(graph.width) + "x" +
+                                             std::to_string(graph.height) + ", the image " +
+                                             std::to_string(v.width) + "x" + std::to_string(v.height));
+      }
+    } catch (const Error& e) {
+      damaged.emplace_back(graph_path, e.what());
+    }
+  }
+  return damaged;
 }
 
 bool StageStore::FinalOutputsExist(int view, const std::string& type) const {
   return FileExists(workspace_.DepthMapPath(view, type)) && FileExists(workspace_.NormalMapPath(view, type)) &&
-         (!plan_.write_consistency_graph || FileExists(workspace_.ConsistencyGraphPath(view, type)));
+         (!plan_.write_consistency_graph || FileExists(workspace_.ConsistencyGraphPath(view, type))) &&
+         DamagedFinalOutputs(view, type).empty();
+}
+
+bool StageStore::AllFinalOutputsExist(int view) const {
+  return FinalOutputsExist(view, plan_.final_type) && FinalOutputsExist(view, "photometric");
+}
+
+int StageStore::MoveAsideDamagedFinalOutputs(int view) const {
+  int moved = 0;
+  std::vector<std::string> types = {"photometric"};
+  if (plan_.final_type != "photometric") types.push_back(plan_.final_type);
+  for (const std::string& type : types) {
+    for (const auto& damaged : DamagedFinalOutputs(view, type)) {
+      std::string aside;
+      for (int n = 1; aside.empty() || FileExists(aside); ++n) aside = damaged.first + ".damaged-" + std::to_string(n);
+      std::error_code ec;
+      std::filesystem::rename(damaged.first, aside, ec);
+      if (ec) {
+        ThrowFileError(damaged.first, "is damaged (" + damaged.second + ") and cannot be moved aside (" +
+                                          ec.message() + "); remove it or rerun with --MPMVS.overwrite 1");
+      }
+      LogWarning(damaged.first + ": " + damaged.second + "; moved aside to " + aside + " and recomputed");
+      ++moved;
+    }
+  }
+  return moved;
 }
 
 std::vector<float> StageStore::ReadChromaGuide(int view) const {
