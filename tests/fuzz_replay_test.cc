@@ -7,12 +7,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "tests/fuzz/fuzz_readers.h"
 
 namespace mpmvs {
+namespace fuzz {
+// gtest prints the parameter by its name.
+void PrintTo(const FuzzReader& reader, std::ostream* os) { *os << reader.name; }
+}  // namespace fuzz
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -50,7 +56,7 @@ TEST_P(FuzzReplay, CorpusAndCrashesAreReadOrRefused) {
 INSTANTIATE_TEST_SUITE_P(Readers, FuzzReplay, testing::ValuesIn(fuzz::FuzzReaders()), ReaderName);
 
 // Multi-file inputs (sparse models, option lists) are split like this.
-TEST(FuzzReplay, SplitPartsKeepsEmptyAndTrailingParts) {
+TEST(FuzzInput, SplitPartsKeepsEmptyAndTrailingParts) {
   const std::string text = std::string("a") + fuzz::kPartSeparator + fuzz::kPartSeparator + "c";
   const auto* data = reinterpret_cast<const uint8_t*>(text.data());
   EXPECT_EQ(fuzz::SplitParts(data, text.size(), 3), (std::vector<std::string>{"a", "", "c"}));

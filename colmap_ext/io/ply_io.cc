@@ -258,6 +258,12 @@ PlyPointCloud ReadPlyPointCloud(const std::string& path) {
           need(p.count_size);
           const double n = DecodeScalar(data + pos, p.count_size, p.count_kind, swap);
           pos += p.count_size;
+          // Checked before the conversion: a negative, fractional or huge count (of a float
+          // count type) must not reach the size_t cast or overflow the product.
+          if (!(n >= 0) || n != std::floor(n) || n > static_cast<double>(body.size() - pos) / p.size) {
+            ThrowFileError(path, "PLY list property '" + p.name + "' has an invalid or too large count " +
+                                     std::to_string(n));
+          }
           need(static_cast<size_t>(n) * p.size);
           pos += static_cast<size_t>(n) * p.size;
         } else {
