@@ -230,7 +230,11 @@ PlyPointCloud ReadPlyPointCloud(const std::string& path) {
       for (uint64_t k = 0; k < el.count; ++k) {
         if (e < vertex_index) {  // one line per element of earlier elements
           std::string skip;
-          std::getline(in, skip);
+          // Stops at the end of the body: a huge count must not spin on an empty stream.
+          if (!std::getline(in, skip)) {
+            ThrowFileError(path, "PLY ascii body ends inside element '" + el.name + "' (" +
+                                     std::to_string(el.count) + " promised)");
+          }
           continue;
         }
         for (size_t p = 0; p < nprop; ++p) {
@@ -252,12 +256,19 @@ PlyPointCloud ReadPlyPointCloud(const std::string& path) {
     if (bytes > body.size() - pos) ThrowFileError(path, "PLY body is shorter than its header says");
   };
   for (int e = 0; e < vertex_index; ++e) {  // skip earlier elements
+    if (elements[e].properties.empty()) continue;  // nothing to skip, however many
     for (uint64_t k = 0; k < elements[e].count; ++k) {
       for (const PlyProperty& p : elements[e].properties) {
         if (p.is_list) {
           need(p.count_size);
           const double n = DecodeScalar(data + pos, p.count_size, p.count_kind, swap);
           pos += p.count_size;
+          // Checked before the conversion: a negative, fractional or huge count (of a float
+          // count type) must not reach the size_t cast or overflow the product.
+          if (!(n >= 0) || n != std::floor(n) || n > static_cast<double>(body.size() - pos) / p.size) {
+            ThrowFileError(path, "PLY list property '" + p.name + "' has an invalid or too large count " +
+                                     std::to_string(n));
+          }
           need(static_cast<size_t>(n) * p.size);
           pos += static_cast<size_t>(n) * p.size;
         } else {

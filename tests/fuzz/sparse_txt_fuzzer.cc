@@ -1,0 +1,7 @@
+// libFuzzer harness of the sparse_txt reader (entry point in fuzz_readers.cc).
+#include "tests/fuzz/fuzz_readers.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const mpmvs::fuzz::FuzzReader& reader = mpmvs::fuzz::FindFuzzReader("sparse_txt");
+  return mpmvs::fuzz::RunFuzzReader(reader, data, size);
+}
