@@ -27,7 +27,7 @@ if [ -d /dev/shm ]; then export TMPDIR=/dev/shm; fi
 status=0
 for r in "${readers[@]}"; do
   corpus=tests/fuzz/corpus/$r
-  work=build-fuzz/work/$r
+  work=build-fuzz/runs/$r
   mkdir -p "$corpus" "$work" "build-fuzz/crashes/$r"
   if [ -z "$(ls -A "$corpus")" ]; then
     build-fuzz/tests/fuzz/mpmvs_fuzz_seeds build-fuzz/seeds
