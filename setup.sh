@@ -11,6 +11,7 @@ PACKAGES=(
   libfreeimage-dev libnanoflann-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap
+  slurm-wlm munge
 )
 
 missing=()

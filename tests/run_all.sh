@@ -54,7 +54,7 @@ if [ "$sanitizers" = 1 ]; then
   # ThreadCreationFailureIsAClearError limits the address space (ulimit -v), which leaves
   # no room for ASan's shadow memory.
   part "ASan+UBSan tests (build-asan, -LE quality)" \
-    run ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE quality -E 'ThreadCreationFailureIsAClearError'
+    run ctest --test-dir build-asan --output-on-failure -j "$jobs" -LE 'quality|slurm' -E 'ThreadCreationFailureIsAClearError'
   part "TSan build (build-tsan)" sanitizer_build build-tsan thread
   # No address randomisation: TSan's fixed shadow layout clashes with high mmap entropy.
   part "TSan tests (build-tsan, CPU backend)" \

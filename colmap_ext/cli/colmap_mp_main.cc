@@ -25,6 +25,8 @@ const std::vector<std::pair<std::string, std::pair<Command, std::string>>>& Comm
   static const std::vector<std::pair<std::string, std::pair<Command, std::string>>> commands = {
       {"mp_patch_match_stereo", {mpmvs::RunMpPatchMatchStereoCommand,
                                  "MP-MVS depth/normal maps for a COLMAP dense workspace"}},
+      {"slurm_submit", {mpmvs::RunSlurmSubmitCommand,
+                        "run mp_patch_match_stereo on a Slurm cluster: one job array per stage"}},
       {"demo", {mpmvs::RunDemoCommand,
                 "synthetic indoor scene -> mp_patch_match_stereo -> colmap stereo_fusion -> evaluation"}},
       {"generate_scene", {mpmvs::RunGenerateSceneCommand,

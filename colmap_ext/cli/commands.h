@@ -24,5 +24,8 @@ int RunEvaluateCommand(const std::vector<std::string>& args);
 //   compare --workspace_paths WS1,WS2,... [--gt_path GT] [--labels a,b,...]
 //           [--output_path DIR]   (scores side by side, or mutual agreement)
 int RunCompareCommand(const std::vector<std::string>& args);
+//   slurm_submit --workspace_path WS --shards N [--partition --time --cpus_per_task --mem
+//                --account --extra "..." --dry_run 1 --fuse 1] [mp_patch_match_stereo options]
+int RunSlurmSubmitCommand(const std::vector<std::string>& args);
 
 }  // namespace mpmvs

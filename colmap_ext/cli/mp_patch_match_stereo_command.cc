@@ -21,12 +21,8 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
                                        const std::string& program) {
   MpPatchMatchRun run;
   OptionParser parser;
-  parser.AddRequired("workspace_path", &run.workspace_path, "COLMAP dense workspace (image_undistorter output)");
-  parser.Add("workspace_format", &run.workspace_format, "COLMAP (PMVS is not supported)");
   std::string pmvs_option_name = "option-all";
-  parser.Add("pmvs_option_name", &pmvs_option_name, "accepted for COLMAP compatibility (PMVS only)");
-  parser.Add("config_path", &run.config_path, "patch-match.cfg to use instead of stereo/patch-match.cfg");
-  AddPatchMatchOptions(&parser, &run.colmap_options, &run.options);
+  AddMpPatchMatchRunOptions(&parser, &run, &pmvs_option_name);
   if (!parser.Parse(args)) {
     std::cout << "Usage: " << program << " mp_patch_match_stereo --workspace_path DIR [options]\n\n"
               << "Computes depth and normal maps with MP-MVS and writes them where COLMAP's\n"

@@ -60,6 +60,21 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "seed", &m->seed);
   parser->Add(q + "overwrite", &m->overwrite, "recompute outputs that already exist");
   parser->Add(q + "write_pictures", &m->write_pictures, "depth/normal PNGs in stereo/mpmvs/pictures");
+  parser->Add(q + "shard", &m->shard,
+              "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process");
+  parser->Add(q + "image_list_path", &m->image_list_path, "file naming the reference images to run, one per line");
+  parser->Add(q + "stage", &m->stage,
+              "all, or one stage (photometric, geometric1, prior, geometric2); its inputs must exist");
+  parser->Add(q + "claim_lease", &m->claim_lease,
+              "seconds before a work claim of a silent process on another host is taken over");
+}
+
+void AddMpPatchMatchRunOptions(OptionParser* parser, MpPatchMatchRun* run, std::string* pmvs_option_name) {
+  parser->AddRequired("workspace_path", &run->workspace_path, "COLMAP dense workspace (image_undistorter output)");
+  parser->Add("workspace_format", &run->workspace_format, "COLMAP (PMVS is not supported)");
+  parser->Add("pmvs_option_name", pmvs_option_name, "accepted for COLMAP compatibility (PMVS only)");
+  parser->Add("config_path", &run->config_path, "patch-match.cfg to use instead of stereo/patch-match.cfg");
+  AddPatchMatchOptions(parser, &run->colmap_options, &run->options);
 }
 
 }  // namespace mpmvs

@@ -1,6 +1,7 @@
 #pragma once
 // The command-line flags of mp_patch_match_stereo (both front ends).
 #include "colmap_ext/cli/option_parser.h"
+#include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/pipeline/patch_match_options.h"
 
 namespace mpmvs {
@@ -9,5 +10,9 @@ namespace mpmvs {
 // ignored with a warning naming the --MPMVS. option to use).
 void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* colmap_options,
                           MpMvsOptions* mpmvs_options);
+
+// Everything mp_patch_match_stereo accepts: --workspace_path (required), the workspace
+// options and AddPatchMatchOptions. pmvs_option_name: accepted and unused (COLMAP's PMVS).
+void AddMpPatchMatchRunOptions(OptionParser* parser, MpPatchMatchRun* run, std::string* pmvs_option_name);
 
 }  // namespace mpmvs

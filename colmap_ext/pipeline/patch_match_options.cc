@@ -77,6 +77,10 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (max_source_images < 1 || max_source_images > 32)
     return Fail(error, p + "max_source_images", max_source_images, "in [1, 32]");
   if (seed < 0) return Fail(error, p + "seed", seed, ">= 0");
+  if (stage != "all" && stage != "photometric" && stage != "geometric1" && stage != "prior" &&
+      stage != "geometric2")
+    return Fail(error, p + "stage", stage, "all, photometric, geometric1, prior or geometric2");
+  if (claim_lease < 1) return Fail(error, p + "claim_lease", claim_lease, ">= 1 (seconds)");
   return true;
 }
 

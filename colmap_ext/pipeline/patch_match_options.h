@@ -61,6 +61,11 @@ struct MpMvsOptions {
   int seed = 1;
   bool overwrite = false;             // recompute outputs that already exist
   bool write_pictures = true;         // depth/normal PNGs in stereo/mpmvs/pictures
+  // Splitting a run over processes (pipeline/shard.h); the maps do not depend on the split.
+  std::string shard;                  // "i/n": this process runs shard i of n ("": all)
+  std::string image_list_path;        // only these reference images ("": all)
+  std::string stage = "all";          // one stage (photometric, geometric1, prior, geometric2) or all
+  int claim_lease = 600;              // seconds a work claim of a silent other host is honoured
 
   PlanarPriorMode PriorMode() const;
   bool Check(std::string* error) const;

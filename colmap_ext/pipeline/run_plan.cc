@@ -45,6 +45,18 @@ int CappedThreads(int requested) {
   return max_threads;
 }
 
+// --MPMVS.stage as an index into the stages (-1: all); an error when this pipeline has no
+// such stage (e.g. prior with --MPMVS.planar_prior none).
+int FindStage(const PipelinePlan& pipeline, const std::string& name) {
+  if (name == "all") return -1;
+  std::string names;
+  for (size_t i = 0; i < pipeline.stages.size(); ++i) {
+    if (pipeline.stages[i].name == name) return static_cast<int>(i);
+    names += (names.empty() ? "" : ", ") + pipeline.stages[i].name;
+  }
+  throw Error("--MPMVS.stage " + name + ": this run has no such stage (its stages: " + names + ", or all)");
+}
+
 }  // namespace
 
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
@@ -68,6 +80,13 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.overwrite = options.overwrite;
   plan.write_pictures = options.write_pictures;
   plan.write_consistency_graph = colmap_options.write_consistency_graph;
+  plan.shard = ParseShard(options.shard);
+  if (!options.image_list_path.empty()) {
+    plan.image_names = ReadImageList(options.image_list_path);
+    if (plan.image_names.empty()) throw Error(options.image_list_path + ": the image list names no image");
+  }
+  plan.only_stage = FindStage(plan.pipeline, options.stage);
+  plan.claim_lease_seconds = options.claim_lease;
   return plan;
 }
 

@@ -4,10 +4,12 @@
 // cache settings.
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "colmap_ext/pipeline/backend.h"
 #include "colmap_ext/pipeline/patch_match_options.h"
 #include "colmap_ext/pipeline/planar_prior.h"
+#include "colmap_ext/pipeline/shard.h"
 #include "colmap_ext/pipeline/stage_plan.h"
 #include "kernels/patch_match.h"
 
@@ -27,6 +29,13 @@ struct RunPlan {
   bool overwrite = false;
   bool write_pictures = false;
   bool write_consistency_graph = false;
+  // Which part of the work this process does (pipeline/shard.h, pipeline/work_claims.h).
+  ShardSpec shard;
+  std::vector<std::string> image_names;  // --MPMVS.image_list_path ("": all)
+  int only_stage = -1;                   // --MPMVS.stage: index in pipeline.stages (-1: all)
+  int claim_lease_seconds = 600;
+  // Whether other processes may run images of this run: their inputs are waited for.
+  bool Partial() const { return !shard.All() || !image_names.empty(); }
 };
 
 // Checks the options (throws Error naming the bad one) and translates them.

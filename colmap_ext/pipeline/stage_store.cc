@@ -98,14 +98,30 @@ std::string StageStore::StateRecordPath(int view, const std::string& stage) cons
 
 bool StageStore::HasState(int view, const std::string& stage) {
   if (!problems_.count(view) || !FileExists(StatePath(view, stage))) return false;
-  const auto key = std::make_pair(view, stage);
-  auto it = state_usable_.find(key);
-  if (it == state_usable_.end()) {
+  // Judged again when the files change: another process may write or replace them while
+  // this one waits (the state first, then its record).
+  const std::string stamp = StateStamp(view, stage);
+  StateVerdict& verdict = state_usable_[{view, stage}];
+  if (verdict.stamp != stamp) {
     const std::string why = CheckState(view, stage);
-    if (!why.empty()) LogWarning(StatePath(view, stage) + ": not resumed, " + why + "; recomputing it");
-    it = state_usable_.emplace(key, why.empty()).first;
+    if (!why.empty() && why != verdict.why) {
+      LogWarning(StatePath(view, stage) + ": not resumed, " + why + "; recomputing it");
+    }
+    verdict = {why.empty(), why, stamp};
   }
-  return it->second;
+  return verdict.usable;
+}
+
+std::string StageStore::StateStamp(int view, const std::string& stage) const {
+  std::string stamp;
+  for (const std::string& path : {StatePath(view, stage), StateRecordPath(view, stage)}) {
+    std::error_code ec;
+    const auto time = std::filesystem::last_write_time(path, ec);
+    const auto size = ec ? 0 : std::filesystem::file_size(path, ec);
+    stamp += ec ? std::string("- ")
+                : std::to_string(time.time_since_epoch().count()) + ":" + std::to_string(size) + " ";
+  }
+  return stamp;
 }
 
 std::string StageStore::CheckState(int view, const std::string& stage) {
@@ -199,7 +215,7 @@ void StageStore::WriteState(int view, const std::string& stage, const kernels::P
   std::filesystem::remove(StateRecordPath(view, stage), ec);
   WriteFloatMap(StatePath(view, stage), state);
   WriteStateRecord(StateRecordPath(view, stage), record);
-  state_usable_[{view, stage}] = true;
+  state_usable_[{view, stage}] = {true, "", StateStamp(view, stage)};
 }
 
 std::vector<std::pair<std::string, std::string>> StageStore::DamagedFinalOutputs(int view,

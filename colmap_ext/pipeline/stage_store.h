@@ -76,7 +76,14 @@ class StageStore {
   std::map<int, ReferenceProblem> problems_;
   std::string options_text_;
   std::map<int, std::string> view_identities_;
-  std::map<std::pair<int, std::string>, bool> state_usable_;  // HasState's verdicts
+  struct StateVerdict {
+    bool usable = false;
+    std::string why;    // why not
+    std::string stamp;  // StateStamp when judged
+  };
+  // Modification times and sizes of the state file and its record.
+  std::string StateStamp(int view, const std::string& stage) const;
+  std::map<std::pair<int, std::string>, StateVerdict> state_usable_;  // HasState's verdicts
   LruCache<int, GrayImage> images_;
   LruCache<int, std::vector<float>> chroma_guides_;
   LruCache<std::pair<int, int>, std::vector<float>> depths_;
