@@ -190,9 +190,20 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPa
   return WeightedCost{photo + params.geom_lambda * geo, photo, geo};
 }
 
+// The prior score's beta at a pixel: with the noise floor on, it follows the window's
+// texture, from ACMP's 0.18 on texture (the views decide) to prior.beta where the window
+// varies no more than the image noise (the views cannot tell planes apart; the prior
+// decides). Without the noise floor prior.beta everywhere (kernels/DESIGN.md 15).
+MPMVS_HD inline float PixelPriorBeta(const PassParams& params, const RefPatch& patch) {
+  constexpr float kAcmpBeta = 0.18f;
+  if (!(params.noise_variance > 0.f) || !(params.prior.beta > kAcmpBeta)) return params.prior.beta;
+  const float flat = Min(1.f, params.noise_variance / Max(patch.variance, 1e-12f));
+  return kAcmpBeta + (params.prior.beta - kAcmpBeta) * flat;
+}
+
 // Planar compatibility score to maximise (ACMP): exp(-C^2/beta) * (gamma + depth/normal
 // agreement with the prior plane).
-MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float cost, const Plane& plane,
+MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float beta, float cost, const Plane& plane,
                                  const Plane& prior_plane, Vec3 ray) {
   const float depth = PlaneDepth(plane, ray);
   const float prior_depth = PlaneDepth(prior_plane, ray);
@@ -202,7 +213,7 @@ MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float cost, const Pla
   const float compat =
       prior.gamma + expf(-dz * dz / (2.f * prior.sigma_depth * prior.sigma_depth)) *
                         expf(-angle * angle / (2.f * prior.sigma_normal * prior.sigma_normal));
-  return expf(-cost * cost / prior.beta) * compat;
+  return expf(-cost * cost / beta) * compat;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -295,8 +306,9 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
         uint32_t m_old, m_new;
         InitialCost<Ncc>(params, patch, u, v, ray, plane, &c_old, &p_old, &g_old, &m_old, num_ncc);
         InitialCost<Ncc>(params, patch, u, v, ray, candidate, &c_new, &p_new, &g_new, &m_new, num_ncc);
-        if (PriorScore(params.prior, c_new, candidate, prior_plane, ray) >
-            PriorScore(params.prior, c_old, plane, prior_plane, ray)) {
+        const float beta = PixelPriorBeta(params, patch);
+        if (PriorScore(params.prior, beta, c_new, candidate, prior_plane, ray) >
+            PriorScore(params.prior, beta, c_old, plane, prior_plane, ray)) {
           plane = candidate;
         }
       }
@@ -325,6 +337,7 @@ struct Candidates {
 struct PixelPrior {
   bool active;
   Plane plane;
+  float beta;  // PixelPriorBeta
 };
 
 // The hypothesis a pixel holds during its update.
@@ -477,7 +490,7 @@ MPMVS_HD MPMVS_FORCE_INLINE Hypothesis StoredHypothesis(
   }
   h.cost = current_row >= 0 ? costs[current_row]
                             : EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, h.plane, num_ncc);
-  h.score = prior.active ? PriorScore(params.prior, h.cost.total, h.plane, prior.plane, ray) : 0.f;
+  h.score = prior.active ? PriorScore(params.prior, prior.beta, h.cost.total, h.plane, prior.plane, ray) : 0.f;
   return h;
 }
 
@@ -493,7 +506,7 @@ MPMVS_HD MPMVS_FORCE_INLINE void AdoptBestCandidate(const PassParams& params,
   for (int r = 0; r < kNumRegions; ++r) {
     if (!cand.valid[r]) continue;
     const float score =
-        prior.active ? PriorScore(params.prior, costs[r].total, cand.plane[r], prior.plane, ray) : 0.f;
+        prior.active ? PriorScore(params.prior, prior.beta, costs[r].total, cand.plane[r], prior.plane, ray) : 0.f;
     if (best_r < 0 || Replaces(prior, costs[r], score, best)) {
       best_r = r;
       best.plane = cand.plane[r];
@@ -546,7 +559,7 @@ MPMVS_HD MPMVS_FORCE_INLINE void Refine(const PassParams& params, const RefPatch
     if (!DepthInRange(params, planes.depth[i])) continue;
     const Plane plane = PlaneFromDepthNormal(ray, planes.depth[i], planes.normal[i]);
     const WeightedCost c = EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, plane, num_ncc);
-    const float score = prior.active ? PriorScore(params.prior, c.total, plane, prior.plane, ray) : 0.f;
+    const float score = prior.active ? PriorScore(params.prior, prior.beta, c.total, plane, prior.plane, ray) : 0.f;
     if (Replaces(prior, c, score, *current)) {
       current->plane = plane;
       current->cost = c;
@@ -575,8 +588,11 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
 
   WeightedCost costs[kNumRegions];
   CandidateCosts(params, weights, cand, photo, u, v, ray, costs);
-  PixelPrior prior{params.use_prior && params.prior.label[idx], Plane{}};
-  if (prior.active) prior.plane = LoadPlane(params.prior.plane, idx);
+  PixelPrior prior{params.use_prior && params.prior.label[idx], Plane{}, 0.f};
+  if (prior.active) {
+    prior.plane = LoadPlane(params.prior.plane, idx);
+    prior.beta = PixelPriorBeta(params, patch);
+  }
   Hypothesis current = StoredHypothesis<Ncc>(params, state, patch, weights, cand, costs, prior, u,
                                              v, ray, num_ncc);
   AdoptBestCandidate(params, cand, costs, prior, ray, selected, &current);

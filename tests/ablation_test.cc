@@ -31,7 +31,8 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   const std::vector<int> multi = {41, 41, 41, 21, 21, 21, 11, 11, 11};
   const std::vector<std::string> plain = {"photometric", "geometric1", "geometric2"};
   const std::vector<std::string> pp = {"photometric", "prior", "geometric1", "geometric2"};
-  const std::vector<std::string> gp = {"photometric", "geometric1", "prior", "geometric2"};
+  // Default prior_rounds 2: a second prior from geometric2, then geometric3.
+  const std::vector<std::string> gp = {"photometric", "geometric1", "prior", "geometric2", "prior2", "geometric3"};
   const std::vector<Expected> expected = {
       {"ACMH", single, kernels::PatternKind::kAcmh, plain},
       {"mPM+ACMH", multi, kernels::PatternKind::kAcmh, plain},
@@ -65,6 +66,7 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   const std::string table = FormatAblationTable(rows);
   EXPECT_NE(table.find("mPM+rs+gp"), std::string::npos);
   EXPECT_NE(table.find("41/21/11"), std::string::npos);
+  EXPECT_NE(table.find("untextured 1%: acc comp F1"), std::string::npos);
 }
 
 }  // namespace

@@ -290,12 +290,12 @@ TEST(KernelPrior, ScoreFavoursThePriorPlane) {
   const Plane near_plane = PlaneFromDepthNormal(ray, 2.01f, Vec3{0.f, 0.f, -1.f});
   const Plane far_plane = PlaneFromDepthNormal(ray, 2.5f, Normalize(Vec3{0.3f, 0.f, -1.f}));
   // Same photometric cost: the plane agreeing with the prior wins.
-  EXPECT_GT(PriorScore(prior, 0.5f, near_plane, prior_plane, ray),
-            PriorScore(prior, 0.5f, far_plane, prior_plane, ray));
+  EXPECT_GT(PriorScore(prior, prior.beta, 0.5f, near_plane, prior_plane, ray),
+            PriorScore(prior, prior.beta, 0.5f, far_plane, prior_plane, ray));
   // Far from the prior only gamma remains; a much better photometric cost still wins.
-  EXPECT_NEAR(PriorScore(prior, 0.f, far_plane, prior_plane, ray), prior.gamma, 1e-4f);
-  EXPECT_GT(PriorScore(prior, 0.05f, far_plane, prior_plane, ray),
-            PriorScore(prior, 1.2f, near_plane, prior_plane, ray));
+  EXPECT_NEAR(PriorScore(prior, prior.beta, 0.f, far_plane, prior_plane, ray), prior.gamma, 1e-4f);
+  EXPECT_GT(PriorScore(prior, prior.beta, 0.05f, far_plane, prior_plane, ray),
+            PriorScore(prior, prior.beta, 1.2f, near_plane, prior_plane, ray));
 }
 
 // The CPU backend's NCC (vectorised where its build allows; the test binary itself is

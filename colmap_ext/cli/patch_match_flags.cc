@@ -41,6 +41,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "planar_prior", &m->planar_prior, "none | photometric (ACMP) | geometric (MP-MVS)");
   parser->Add(q + "geom_iterations", &m->geom_iterations);
   parser->Add(q + "prior_iterations", &m->prior_iterations);
+  parser->Add(q + "prior_rounds", &m->prior_rounds);
   parser->Add(q + "geom_weight", &m->geom_weight, "lambda of the geometric term");
   parser->Add(q + "geom_max_error", &m->geom_max_error, "clamp of the reprojection error, px");
   parser->Add(q + "prior_max_photo_cost", &m->prior_max_photo_cost);
@@ -48,8 +49,8 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_max_cost_acmp", &m->prior_max_cost_acmp);
   parser->Add(q + "prior_cell_size", &m->prior_cell_size);
   parser->Add(q + "prior_points_per_cell", &m->prior_points_per_cell);
-  parser->Add(q + "prior_straddle_angle", &m->prior_straddle_angle,
-              "degrees; a prior triangle this far from every vertex normal takes its farthest vertex's plane; 0 = paper");
+  parser->Add(q + "prior_plane_vote", &m->prior_plane_vote,
+              "each prior triangle takes the plane its neighbouring vertices vote for; 0 = its own plane (paper)");
   parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");
@@ -64,7 +65,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
               "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process");
   parser->Add(q + "image_list_path", &m->image_list_path, "file naming the reference images to run, one per line");
   parser->Add(q + "stage", &m->stage,
-              "all, or one stage (photometric, geometric1, prior, geometric2); its inputs must exist");
+              "all, or one stage (photometric, geometric1, prior, geometric2, prior2, geometric3); its inputs must exist");
   parser->Add(q + "claim_lease", &m->claim_lease,
               "seconds before a work claim of a silent process on another host is taken over");
 }

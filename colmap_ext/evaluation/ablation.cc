@@ -108,15 +108,16 @@ std::vector<AblationRowResult> RunAblation(const AblationOptions& options) {
 std::string FormatAblationTable(const std::vector<AblationRowResult>& rows) {
   std::ostringstream ss;
   char line[512];
-  std::snprintf(line, sizeof(line), "%-12s | %-23s | %-23s | %-23s | %-23s | %8s | %s\n", "row",
-                "depth 1%: acc comp F1", "depth 2%: acc comp F1", "cloud 0.5%: acc comp F1",
-                "cloud 1%: acc comp F1", "time s", "photometric stage");
-  ss << line << std::string(150, '-') << "\n";
+  std::snprintf(line, sizeof(line), "%-12s | %-23s | %-23s | %-23s | %-23s | %-23s | %8s | %s\n", "row",
+                "depth 1%: acc comp F1", "depth 2%: acc comp F1", "untextured 1%: acc comp F1",
+                "cloud 0.5%: acc comp F1", "cloud 1%: acc comp F1", "time s", "photometric stage");
+  ss << line << std::string(176, '-') << "\n";
   for (const AblationRowResult& r : rows) {
-    const DepthPixelScore& d = r.evaluation.depth.pooled;
-    auto depth_at = [&](size_t i) {
+    auto depth_at = [&](size_t i, bool untextured = false) {
+      // Untextured: the GT's untextured mask (synthetic scenes); "-" without one.
+      const DepthPixelScore& d = untextured ? r.evaluation.depth.pooled_untextured : r.evaluation.depth.pooled;
       char buf[64];
-      if (i < d.at.size()) {
+      if (i < d.at.size() && d.num_gt > 0) {
         std::snprintf(buf, sizeof(buf), "%6.1f %6.1f %6.1f", 100 * d.at[i].accuracy, 100 * d.at[i].completeness,
                       100 * d.at[i].f1);
       } else {
@@ -143,9 +144,9 @@ std::string FormatAblationTable(const std::vector<AblationRowResult>& rows) {
         pattern = PatternName(it.pattern);
       }
     }
-    std::snprintf(line, sizeof(line), "%-12s | %-23s | %-23s | %-23s | %-23s | %8.1f | windows %s px, %s\n",
-                  r.name.c_str(), depth_at(0).c_str(), depth_at(1).c_str(), cloud_at(0).c_str(),
-                  cloud_at(1).c_str(), r.summary.seconds, windows.c_str(), pattern.c_str());
+    std::snprintf(line, sizeof(line), "%-12s | %-23s | %-23s | %-23s | %-23s | %-23s | %8.1f | windows %s px, %s\n",
+                  r.name.c_str(), depth_at(0).c_str(), depth_at(1).c_str(), depth_at(0, true).c_str(),
+                  cloud_at(0).c_str(), cloud_at(1).c_str(), r.summary.seconds, windows.c_str(), pattern.c_str());
     ss << line;
   }
   return ss.str();

@@ -67,8 +67,6 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (geom_max_error <= 0) return Fail(error, p + "geom_max_error", geom_max_error, "> 0");
   if (prior_cell_size < 1) return Fail(error, p + "prior_cell_size", prior_cell_size, ">= 1");
   if (prior_points_per_cell < 1) return Fail(error, p + "prior_points_per_cell", prior_points_per_cell, ">= 1");
-  if (prior_straddle_angle < 0 || prior_straddle_angle >= 90)
-    return Fail(error, p + "prior_straddle_angle", prior_straddle_angle, "in [0, 90)");
   if (prior_beta <= 0) return Fail(error, p + "prior_beta", prior_beta, "> 0");
   if (refinement_rho <= 0 || refinement_rho >= 1)
     return Fail(error, p + "refinement_rho", refinement_rho, "in (0, 1)");
@@ -77,9 +75,8 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (max_source_images < 1 || max_source_images > 32)
     return Fail(error, p + "max_source_images", max_source_images, "in [1, 32]");
   if (seed < 0) return Fail(error, p + "seed", seed, ">= 0");
-  if (stage != "all" && stage != "photometric" && stage != "geometric1" && stage != "prior" &&
-      stage != "geometric2")
-    return Fail(error, p + "stage", stage, "all, photometric, geometric1, prior or geometric2");
+  if (prior_rounds < 1 || prior_rounds > 4) return Fail(error, p + "prior_rounds", prior_rounds, "in [1, 4]");
+  if (stage.empty()) return Fail(error, p + "stage", stage, "all or a stage name (photometric, geometric1, ...)");
   if (claim_lease < 1) return Fail(error, p + "claim_lease", claim_lease, ">= 1 (seconds)");
   return true;
 }

@@ -37,6 +37,8 @@ struct MpMvsOptions {
   std::string planar_prior = "geometric";  // none | photometric (ACMP, pp) | geometric (gp)
   int geom_iterations = 2;           // per geometric pass
   int prior_iterations = 3;
+  // gp: rounds of (planar prior from the last geometric pass, geometric pass); 1 is the paper.
+  int prior_rounds = 2;
   double geom_weight = 0.2;          // lambda
   double geom_max_error = 2.0;       // clamp of the reprojection error (px)
   double prior_max_photo_cost = 0.2;  // gp vertex: m_p <
@@ -44,9 +46,9 @@ struct MpMvsOptions {
   double prior_max_cost_acmp = 0.1;   // pp vertex: cost <
   int prior_cell_size = 5;
   int prior_points_per_cell = 3;      // gp; pp uses 1 (ACMP)
-  // A prior triangle further than this (degrees) from every vertex normal spans a depth
-  // edge and takes its farthest vertex's plane (0: the paper's triangle planes everywhere).
-  double prior_straddle_angle = 45;
+  // Each prior triangle takes the plane that the vertices around it vote for, among its
+  // neighbours' planes and its vertices' tangent planes (false: its own plane, the paper).
+  bool prior_plane_vote = true;
   // ACMP's beta: the weight of the photometric cost in the prior run's score, exp(-C^2/beta).
   // 0.18 is ACMP's; a large beta lets the prior decide wherever the views cannot.
   double prior_beta = 8;
@@ -64,7 +66,7 @@ struct MpMvsOptions {
   // Splitting a run over processes (pipeline/shard.h); the maps do not depend on the split.
   std::string shard;                  // "i/n": this process runs shard i of n ("": all)
   std::string image_list_path;        // only these reference images ("": all)
-  std::string stage = "all";          // one stage (photometric, geometric1, prior, geometric2) or all
+  std::string stage = "all";          // one stage (photometric, geometric1, prior, ...) or all
   int claim_lease = 600;              // seconds a work claim of a silent other host is honoured
 
   PlanarPriorMode PriorMode() const;

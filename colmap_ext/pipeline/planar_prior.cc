@@ -5,6 +5,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "kernels/patch_match_pixel.h"
@@ -18,6 +19,92 @@ using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 
 using kernels::Vec3;
+
+Vec3 VertexPoint(const kernels::Camera& camera, const PlanarPriorVertex& v) {
+  return v.depth * kernels::PixelRay(camera, static_cast<float>(v.u), static_cast<float>(v.v));
+}
+
+// The plane with unit normal n through X, its normal turned towards the camera.
+kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
+  if (kernels::Dot(n, X) > 0.f) n = -n;
+  return kernels::Plane{n, -kernels::Dot(n, X)};
+}
+
+// Each triangle's plane by a vote of the vertices around it (kernels/DESIGN.md 15): the
+// candidates are the own planes of the triangles that share a vertex with it (itself
+// first) and its vertices' tangent planes; each vertex within two rings of the triangle's
+// vertices votes for the candidates on which it lies (depth within 1 %); the most votes
+// win, a tie keeps the earlier candidate. A wall triangle whose corners sit on an object
+// in front of the wall, or whose three vertices lie on three surfaces, takes the plane
+// that its neighbourhood agrees on instead of a plane through empty space.
+std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
+                                        const std::vector<std::array<int, 3>>& faces,
+                                        const std::vector<kernels::Plane>& own, int* num_changed) {
+  constexpr float kTolerance = 0.01f;
+  const size_t nv = vertices.size();
+  std::vector<Vec3> points(nv), rays(nv);
+  for (size_t i = 0; i < nv; ++i) {
+    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
+    points[i] = vertices[i].depth * rays[i];
+  }
+  std::vector<std::vector<int>> ring(nv), incident(nv);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      incident[faces[f][k]].push_back(static_cast<int>(f));
+      ring[faces[f][k]].push_back(faces[f][(k + 1) % 3]);
+      ring[faces[f][k]].push_back(faces[f][(k + 2) % 3]);
+    }
+  }
+  for (size_t i = 0; i < nv; ++i) {
+    ring[i].push_back(static_cast<int>(i));
+    std::sort(ring[i].begin(), ring[i].end());
+    ring[i].erase(std::unique(ring[i].begin(), ring[i].end()), ring[i].end());
+  }
+  std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
+  std::vector<int> voters;
+  std::vector<kernels::Plane> candidates;
+  std::vector<kernels::Plane> chosen(faces.size());
+  *num_changed = 0;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const int stamp = static_cast<int>(f);
+    voters.clear();
+    candidates.assign(1, own[f]);
+    face_stamp[f] = stamp;
+    for (int k = 0; k < 3; ++k) {
+      const int v = faces[f][k];
+      for (int r1 : ring[v]) {
+        for (int r2 : ring[r1]) {
+          if (voter_stamp[r2] != stamp) {
+            voter_stamp[r2] = stamp;
+            voters.push_back(r2);
+          }
+        }
+      }
+      const Vec3& normal = vertices[v].normal;
+      if (kernels::Norm(normal) > 0.f) candidates.push_back(FacingPlane(kernels::Normalize(normal), points[v]));
+      for (int g : incident[v]) {
+        if (face_stamp[g] == stamp) continue;
+        face_stamp[g] = stamp;
+        candidates.push_back(own[g]);
+      }
+    }
+    int best = 0, best_votes = -1;
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      int votes = 0;
+      for (int j : voters) {
+        const float z = kernels::PlaneDepth(candidates[c], rays[j]);
+        votes += std::abs(z - vertices[j].depth) < kTolerance * vertices[j].depth;
+      }
+      if (votes > best_votes) {
+        best = static_cast<int>(c);
+        best_votes = votes;
+      }
+    }
+    chosen[f] = candidates[best];
+    *num_changed += best != 0;
+  }
+  return chosen;
+}
 
 }  // namespace
 
@@ -80,44 +167,27 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
   Delaunay triangulation;
   triangulation.insert(points.begin(), points.end());
 
-  const float min_normal_cos = options.straddle_normal_angle_deg > 0.f
-                                   ? std::cos(options.straddle_normal_angle_deg * kernels::kPi / 180.f)
-                                   : -2.f;
+  // Every triangle's own plane through its three vertices, facing the camera.
+  std::vector<std::array<int, 3>> faces;
+  std::vector<kernels::Plane> own;
   for (auto face = triangulation.finite_faces_begin(); face != triangulation.finite_faces_end(); ++face) {
-    int idx[3];
+    std::array<int, 3> idx;
     Vec3 X[3];
     for (int k = 0; k < 3; ++k) {
       idx[k] = face->vertex(k)->info();
-      const PlanarPriorVertex& pv = model.vertices[idx[k]];
-      X[k] = pv.depth * kernels::PixelRay(camera, static_cast<float>(pv.u), static_cast<float>(pv.v));
+      X[k] = VertexPoint(camera, model.vertices[idx[k]]);
     }
     Vec3 n = kernels::Cross(X[1] - X[0], X[2] - X[0]);
-    if (kernels::Norm(n) <= 0.f) continue;
-    n = kernels::Normalize(n);
-    if (kernels::Dot(n, X[0]) > 0.f) n = -n;  // face the camera
-    Vec3 on_plane = X[0];
-    // A triangle whose plane agrees with none of its vertices' own normals spans a depth
-    // edge: the area between an object's vertices and the background's is mostly
-    // background, so it takes the tangent plane of its farthest vertex (kernels/DESIGN.md 14).
-    int agree = 0, known = 0;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 vertex_normal = model.vertices[idx[k]].normal;
-      known += kernels::Norm(vertex_normal) > 0.f;
-      agree += kernels::Dot(n, vertex_normal) >= min_normal_cos;
-    }
-    if (known > 0 && agree == 0) {
-      int far = 0;
-      for (int k = 1; k < 3; ++k) {
-        if (model.vertices[idx[k]].depth > model.vertices[idx[far]].depth) far = k;
-      }
-      const Vec3 far_normal = model.vertices[idx[far]].normal;
-      if (!(kernels::Norm(far_normal) > 0.f)) continue;
-      n = kernels::Normalize(far_normal);
-      if (kernels::Dot(n, X[far]) > 0.f) n = -n;
-      on_plane = X[far];
-      ++model.num_straddling_triangles;
-    }
-    const float d = -kernels::Dot(n, on_plane);
+    if (!(kernels::Norm(n) > 0.f)) continue;
+    faces.push_back(idx);
+    own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
+  }
+  const std::vector<kernels::Plane> chosen =
+      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, &model.num_voted_triangles) : own;
+
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const std::array<int, 3>& idx = faces[f];
+    const kernels::Plane& plane = chosen[f];
     model.triangles.insert(model.triangles.end(), {idx[0], idx[1], idx[2]});
 
     // Rasterise: pixels whose centre lies inside the triangle (edges inclusive).
@@ -130,7 +200,6 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     const int vmax = std::min(H - 1, std::max({a.v, b.v, c.v}));
     const float area = float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u);
     if (area == 0.f) continue;
-    const kernels::Plane plane{n, d};
     for (int v = vmin; v <= vmax; ++v) {
       for (int u = umin; u <= umax; ++u) {
         const float w0 = (float(b.u - u) * (c.v - v) - float(b.v - v) * (c.u - u)) / area;
@@ -141,10 +210,10 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
         if (!(z_prior >= depth_min && z_prior <= depth_max)) continue;
         const size_t i = static_cast<size_t>(v) * W + u;
         model.label[i] = 1;
-        model.plane[4 * i + 0] = n.x;
-        model.plane[4 * i + 1] = n.y;
-        model.plane[4 * i + 2] = n.z;
-        model.plane[4 * i + 3] = d;
+        model.plane[4 * i + 0] = plane.n.x;
+        model.plane[4 * i + 1] = plane.n.y;
+        model.plane[4 * i + 2] = plane.n.z;
+        model.plane[4 * i + 3] = plane.d;
       }
     }
   }

@@ -17,10 +17,9 @@ struct PlanarPriorOptions {
   float max_photo_cost = 0.2f;       // geometric: m_p <
   float max_geom_error = 1.0f;       // geometric: m_g < (px)
   float max_cost_photometric = 0.1f;  // photometric: cost <
-  // A triangle whose plane is further than this from every vertex's own normal spans a
-  // depth edge and takes its farthest vertex's plane instead (0: off, the paper's Delaunay
-  // planes everywhere).
-  float straddle_normal_angle_deg = 45.f;
+  // Each triangle takes the plane its neighbourhood of vertices votes for (planar_prior.cc,
+  // VotedPlanes) instead of its own plane through its three vertices (false: the paper).
+  bool plane_vote = true;
 };
 
 struct PlanarPriorVertex {
@@ -32,7 +31,7 @@ struct PlanarPriorVertex {
 struct PlanarPriorModel {
   std::vector<PlanarPriorVertex> vertices;
   std::vector<int> triangles;  // 3 vertex indices per kept triangle
-  int num_straddling_triangles = 0;  // across a depth edge: the farthest vertex's plane
+  int num_voted_triangles = 0;  // triangles whose vote chose another plane than their own
   std::vector<float> plane;    // 4 per pixel (nx, ny, nz, d), reference camera frame
   std::vector<uint8_t> label;  // 1 where a triangle covers the pixel
 };

@@ -15,7 +15,7 @@ PlanarPriorOptions MakePriorOptions(const MpMvsOptions& o) {
   po.max_photo_cost = static_cast<float>(o.prior_max_photo_cost);
   po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
   po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
-  po.straddle_normal_angle_deg = static_cast<float>(o.prior_straddle_angle);
+  po.plane_vote = o.prior_plane_vote;
   return po;
 }
 

@@ -39,9 +39,9 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   }
   plan.stages.push_back(photometric);
 
-  auto add_prior = [&](bool geometric_selection) {
+  auto add_prior = [&](bool geometric_selection, const std::string& name) {
     StagePlan prior;
-    prior.name = "prior";
+    prior.name = name;
     prior.kind = StageKind::kPlanarPrior;
     prior.input = static_cast<int>(plan.stages.size()) - 1;
     prior.prior_geometric_selection = geometric_selection;
@@ -65,12 +65,20 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   };
 
   const PlanarPriorMode prior = options.PriorMode();
-  if (prior == PlanarPriorMode::kPhotometric) add_prior(false);
+  if (prior == PlanarPriorMode::kPhotometric) add_prior(false, "prior");
   plan.photometric_output = static_cast<int>(plan.stages.size()) - 1;
   if (colmap_options.geom_consistency) {
     add_geometric("geometric1");
-    if (prior == PlanarPriorMode::kGeometric) add_prior(true);
-    add_geometric("geometric2");
+    if (prior == PlanarPriorMode::kGeometric) {
+      // Each round builds its prior from the previous geometric pass: prior, geometric2,
+      // then prior2, geometric3, ...
+      for (int round = 1; round <= options.prior_rounds; ++round) {
+        add_prior(true, round == 1 ? "prior" : "prior" + std::to_string(round));
+        add_geometric("geometric" + std::to_string(round + 1));
+      }
+    } else {
+      add_geometric("geometric2");
+    }
     plan.geometric_output = static_cast<int>(plan.stages.size()) - 1;
   }
   for (size_t i = 0; i < plan.stages.size(); ++i) {

@@ -1,6 +1,7 @@
 #pragma once
 // The order of PatchMatch stages of mp_patch_match_stereo (docs/algorithm.md §0, §1):
 //   gp (default): photometric mPM -> geometric pass 1 -> planar prior (from pass 1) -> geometric pass 2
+//                 [-> prior2 (from pass 2) -> geometric pass 3 ...: --MPMVS.prior_rounds]
 //   pp (ACMP):    photometric mPM -> planar prior (photometric selection) -> geometric x2
 //   none:         photometric mPM -> geometric x2
 // Each stage reads the previous stage's results of all images (Jacobi), never results of

@@ -58,7 +58,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   for (uint8_t l : ref->prior.label) labelled += l;
   LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
           " vertices, " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
-          std::to_string(ref->prior.num_straddling_triangles) + " across depth edges), " +
+          std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
 }
 

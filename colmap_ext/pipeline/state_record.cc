@@ -66,11 +66,11 @@ std::string StateOptionsText(const MpMvsOptions& o) {
   s.precision(17);
   s << "max_window_scale " << o.max_window_scale << "\niterations_per_scale " << o.iterations_per_scale
     << "\ndistant_sampling " << o.distant_sampling << "\nplanar_prior " << o.planar_prior << "\ngeom_iterations "
-    << o.geom_iterations << "\nprior_iterations " << o.prior_iterations << "\ngeom_weight " << o.geom_weight
+    << o.geom_iterations << "\nprior_iterations " << o.prior_iterations << "\nprior_rounds " << o.prior_rounds << "\ngeom_weight " << o.geom_weight
     << "\ngeom_max_error " << o.geom_max_error << "\nprior_max_photo_cost " << o.prior_max_photo_cost
     << "\nprior_max_geom_error " << o.prior_max_geom_error << "\nprior_max_cost_acmp " << o.prior_max_cost_acmp
     << "\nprior_cell_size " << o.prior_cell_size << "\nprior_points_per_cell " << o.prior_points_per_cell
-    << "\nprior_straddle_angle " << o.prior_straddle_angle << "\nprior_beta " << o.prior_beta << "\nnoise_floor "
+    << "\nprior_plane_vote " << o.prior_plane_vote << "\nprior_beta " << o.prior_beta << "\nnoise_floor "
     << o.noise_floor << "\nrefinement_rho " << o.refinement_rho << "\nchroma_weight " << o.chroma_weight
     << "\nmax_source_images " << o.max_source_images << "\nseed " << o.seed << "\n";
   return s.str();

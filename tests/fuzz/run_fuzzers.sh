@@ -6,6 +6,8 @@
 # input lands in build-fuzz/crashes/<reader>/ and stops that reader: copy it to
 # tests/fuzz/crashes/<reader>/ (replayed by tests/fuzz_replay_test.cc) and fix the reader.
 # Usage: tests/fuzz/run_fuzzers.sh [reader...]   (default: every tests/fuzz/*_fuzzer.cc)
+# TIMEOUT (s, default 30): a single input slower than this is a finding (on a loaded machine
+# 10 s gave false timeouts).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 RUNS=${RUNS:-1000000}
@@ -37,7 +39,7 @@ for r in "${readers[@]}"; do
   if [ -f "tests/fuzz/$r.dict" ]; then dict=(-dict="tests/fuzz/$r.dict"); fi
   log=build-fuzz/$r.log
   start=$(date +%s)
-  if nice -n 10 "build-fuzz/tests/fuzz/${r}_fuzzer" -runs="$RUNS" -max_len="$MAX_LEN" -timeout=10 \
+  if nice -n 10 "build-fuzz/tests/fuzz/${r}_fuzzer" -runs="$RUNS" -max_len="$MAX_LEN" -timeout="${TIMEOUT:-30}" \
       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$r/" "${dict[@]}" \
       "$work" "$corpus" > "$log" 2>&1; then
     result=ok
