@@ -265,6 +265,13 @@ SyntheticLayout BuildFacade(const LayoutParams& p) {
   return layout;
 }
 
+// A camera centre on a sphere around the origin, looking along +y at azimuth 0 (the plane
+// scenes' walls lie in y = 0 and are seen from y < 0).
+Vector3d OrbitCenter(double distance, double azimuth, double elevation) {
+  return distance * Vector3d(std::sin(azimuth) * std::cos(elevation), -std::cos(azimuth) * std::cos(elevation),
+                             std::sin(elevation));
+}
+
 SyntheticLayout BuildPlane(const LayoutParams& p) {
   WorldBuilder b(p.seed);
   const int mat = b.Pattern(TexturePattern::kMixed, {0.16, 0.13, 0.10}, {0.92, 0.88, 0.78}, 0.08);
@@ -295,9 +302,7 @@ SyntheticLayout BuildPlane(const LayoutParams& p) {
   for (int i = 0; i < n; ++i) {
     const double azimuth = (Spread(i, n) * 24.0 + rng.Uniform(-1, 1)) * kDegToRad;
     const double elevation = -rng.Uniform(0.5, 5.0) * kDegToRad;
-    const Vector3d center = distance * Vector3d(std::sin(azimuth) * std::cos(elevation),
-                                                -std::cos(azimuth) * std::cos(elevation),
-                                                std::sin(elevation));
+    const Vector3d center = OrbitCenter(distance, azimuth, elevation);
     const double roll = rng.Uniform(-6, 6) * kDegToRad;
     SyntheticCamera cam = LookAtCamera(center, Vector3d::Zero(), Vector3d::UnitZ(), roll,
                                        p.width, p.height, fx, fy, cx, cy);
@@ -347,9 +352,7 @@ SyntheticLayout BuildPlainWall(const LayoutParams& p) {
     const double azimuth = (Spread(i, p.num_views) * 40.0 + rng.Uniform(-1, 1)) * kDegToRad;
     const double elevation = rng.Uniform(-3.0, 3.0) * kDegToRad;
     const double distance = 3.0;
-    const Vector3d center = distance * Vector3d(std::sin(azimuth) * std::cos(elevation),
-                                                -std::cos(azimuth) * std::cos(elevation),
-                                                std::sin(elevation));
+    const Vector3d center = OrbitCenter(distance, azimuth, elevation);
     const Vector3d target(rng.Uniform(-0.1, 0.1), 0, rng.Uniform(-0.1, 0.1));
     layout.cameras.push_back(LookAtCamera(center, target, Vector3d::UnitZ(), rng.Uniform(-3, 3) * kDegToRad,
                                           p.width, p.height, fx, fy, cx, cy));
