@@ -92,6 +92,7 @@ struct RefPatch {
   float offset_y[kWindowSamplesPadded];
   float mean;                             // sum weight * (I_ref - centre)
   float variance;                         // weighted variance
+  float texture;                          // weighted variance a linear ramp leaves
   float centre;                           // I_ref(p)
 };
 
@@ -145,6 +146,27 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   patch->mean = mean;
   patch->variance = sq - mean * mean;
   patch->centre = centre;
+  // Smooth shading is locally a linear ramp, which matches itself under any shift along it
+  // and so says nothing about depth: the texture is the variance a weighted ramp fit leaves.
+  float mx = 0.f, my = 0.f;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    mx += patch->weight[k] * patch->offset_x[k];
+    my += patch->weight[k] * patch->offset_y[k];
+  }
+  float sxx = 0.f, syy = 0.f, sxy = 0.f, sxi = 0.f, syi = 0.f;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    const float w = patch->weight[k];
+    const float x = patch->offset_x[k] - mx, y = patch->offset_y[k] - my, i = values[k] - mean;
+    sxx += w * x * x;
+    syy += w * y * y;
+    sxy += w * x * y;
+    sxi += w * x * i;
+    syi += w * y * i;
+  }
+  const float det = sxx * syy - sxy * sxy;
+  float ramp = 0.f;
+  if (det > 1e-6f * sxx * syy) ramp = (syy * sxi * sxi - 2.f * sxy * sxi * syi + sxx * syi * syi) / det;
+  patch->texture = Max(patch->variance - ramp, 0.f);
 }
 
 // Whether an NCC is defined at all: the window centre maps in front of the source camera

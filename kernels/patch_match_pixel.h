@@ -170,35 +170,60 @@ struct WeightedCost {
 
 // View-weighted cost of a plane (docs/algorithm.md §3 step 6, §7).
 template <class Ncc>
-MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, const RefPatch& patch,
-                                           const float* weights, int u, int v, Vec3 ray,
-                                           const Plane& plane, uint32_t* num_ncc) {
+MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geometric,
+                                           const RefPatch& patch, const float* weights, int u,
+                                           int v, Vec3 ray, const Plane& plane,
+                                           uint32_t* num_ncc) {
   const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
-  const float depth = params.geometric ? PlaneDepth(plane, ray) : 0.f;
+  const float depth = geometric ? PlaneDepth(plane, ray) : 0.f;
   float wsum = 0.f, photo = 0.f, geo = 0.f;
   for (int s = 0; s < params.num_sources; ++s) {
     const float w = weights[s];
     if (w <= 0.f) continue;
     wsum += w;
     photo += w * ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
-    if (params.geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
+    if (geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
   }
   if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
   photo /= wsum;
   if (params.noise_variance > 0.f) photo = Max(photo, Min(1.f, params.noise_variance / patch.variance));
-  geo = params.geometric ? geo / wsum : 0.f;
+  geo = geometric ? geo / wsum : 0.f;
   return WeightedCost{photo + params.geom_lambda * geo, photo, geo};
 }
 
-// The prior score's beta at a pixel: with the noise floor on, it follows the window's
-// texture, from ACMP's 0.18 on texture (the views decide) to prior.beta where the window
-// varies no more than the image noise (the views cannot tell planes apart; the prior
-// decides). Without the noise floor prior.beta everywhere (kernels/DESIGN.md 15).
+// Whether the texture-adaptive prior is on: the noise floor on and prior.beta above ACMP's.
+MPMVS_HD inline bool TextureAdaptivePrior(const PassParams& params) {
+  constexpr float kAcmpBeta = 0.18f;
+  return params.noise_variance > 0.f && params.prior.beta > kAcmpBeta;
+}
+
+// The prior score's beta at a pixel: with the texture-adaptive prior, it follows the
+// window's texture (RefPatch::texture: what a linear ramp of shading does not explain), from
+// ACMP's 0.18 on texture (the views decide) to prior.beta where the texture is no more than
+// the image noise (the views cannot tell planes apart; the prior decides). Otherwise
+// prior.beta everywhere (kernels/DESIGN.md 15, 16).
 MPMVS_HD inline float PixelPriorBeta(const PassParams& params, const RefPatch& patch) {
   constexpr float kAcmpBeta = 0.18f;
-  if (!(params.noise_variance > 0.f) || !(params.prior.beta > kAcmpBeta)) return params.prior.beta;
-  const float flat = Min(1.f, params.noise_variance / Max(patch.variance, 1e-12f));
+  if (!TextureAdaptivePrior(params)) return params.prior.beta;
+  const float flat = Min(1.f, params.noise_variance / Max(patch.texture, 1e-12f));
   return kAcmpBeta + (params.prior.beta - kAcmpBeta) * flat;
+}
+
+// Whether the prior acts at a labelled pixel of a prior pass: with the texture-adaptive
+// prior only where the window's texture is at most twice the image noise variance; textured
+// windows keep what their views say (kernels/DESIGN.md 16).
+MPMVS_HD inline bool PixelPriorActive(const PassParams& params, const RefPatch& patch, int idx) {
+  constexpr float kMaxTextureToNoise = 2.f;
+  if (!params.use_prior || !params.prior.label[idx]) return false;
+  return !TextureAdaptivePrior(params) || patch.texture <= kMaxTextureToNoise * params.noise_variance;
+}
+
+// Whether a pixel's costs include the geometric term: in geometric passes, except where the
+// prior acts. There it takes the term's place: the source maps it would pull towards are
+// the previous pass's, which are wrong on exactly the plain surfaces the prior is for
+// (kernels/DESIGN.md 16).
+MPMVS_HD MPMVS_FORCE_INLINE bool PixelGeometric(const PassParams& params, bool prior_active) {
+  return params.geometric && !prior_active;
 }
 
 // Planar compatibility score to maximise (ACMP): exp(-C^2/beta) * (gamma + depth/normal
@@ -222,8 +247,9 @@ MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float beta, float cos
 // Costs of `plane` in every view; cost = mean of the top_k smallest valid ones, mask = views
 // at or below the k-th smallest (docs/algorithm.md §2).
 template <class Ncc>
-MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch, int u, int v,
-                                 Vec3 ray, const Plane& plane, float* cost, float* photo_cost,
+MPMVS_HD inline void InitialCost(const PassParams& params, bool geometric, const RefPatch& patch,
+                                 int u, int v, Vec3 ray, const Plane& plane, float* cost,
+                                 float* photo_cost,
                                  float* geo_error, uint32_t* mask, uint32_t* num_ncc) {
   const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
   const float depth = PlaneDepth(plane, ray);
@@ -231,15 +257,15 @@ MPMVS_HD inline void InitialCost(const PassParams& params, const RefPatch& patch
   int num_valid = 0;
   for (int s = 0; s < params.num_sources; ++s) {
     photo[s] = ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
-    geo[s] = params.geometric ? GeometricError(params, params.sources[s], u, v, ray, depth) : 0.f;
+    geo[s] = geometric ? GeometricError(params, params.sources[s], u, v, ray, depth) : 0.f;
     total[s] = photo[s] + params.geom_lambda * geo[s];
     if (photo[s] < kInvalidCost) ++num_valid;
   }
   const int k = MinI(num_valid, params.init_top_k);
   if (k == 0) {
-    *cost = kInvalidCost + (params.geometric ? params.geom_lambda * params.geom_max_error : 0.f);
+    *cost = kInvalidCost + (geometric ? params.geom_lambda * params.geom_max_error : 0.f);
     *photo_cost = kInvalidCost;
-    *geo_error = params.geometric ? params.geom_max_error : 0.f;
+    *geo_error = geometric ? params.geom_max_error : 0.f;
     *mask = 0;
     return;
   }
@@ -288,7 +314,8 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
   }
   RefPatch patch;
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
-  const bool prior_pixel = params.use_prior && params.prior.label[idx];
+  const bool prior_pixel = PixelPriorActive(params, patch, idx);
+  const bool geometric = PixelGeometric(params, prior_pixel);
   if (prior_pixel && (!have || !init_cost || init_cost[idx] >= 0.1f)) {
     // ACMP restarts poorly matched pixels near the prior plane. Rather than overwriting the
     // earlier estimate, keep whichever of the two scores better under the prior score, so a
@@ -304,8 +331,10 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
       } else {
         float c_old, p_old, g_old, c_new, p_new, g_new;
         uint32_t m_old, m_new;
-        InitialCost<Ncc>(params, patch, u, v, ray, plane, &c_old, &p_old, &g_old, &m_old, num_ncc);
-        InitialCost<Ncc>(params, patch, u, v, ray, candidate, &c_new, &p_new, &g_new, &m_new, num_ncc);
+        InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &c_old, &p_old, &g_old,
+                         &m_old, num_ncc);
+        InitialCost<Ncc>(params, geometric, patch, u, v, ray, candidate, &c_new, &p_new, &g_new,
+                         &m_new, num_ncc);
         const float beta = PixelPriorBeta(params, patch);
         if (PriorScore(params.prior, beta, c_new, candidate, prior_plane, ray) >
             PriorScore(params.prior, beta, c_old, plane, prior_plane, ray)) {
@@ -319,7 +348,7 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     plane = PlaneFromDepthNormal(ray, depth, RandomNormal(&rng, ray));
   }
   StorePlane(state.plane, idx, plane);
-  InitialCost<Ncc>(params, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
+  InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
                    &state.geo_error[idx], &state.view_mask[idx], num_ncc);
 }
 
@@ -441,9 +470,10 @@ MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params,
 }
 
 // 4a. View-weighted costs of the valid candidates from their per-view photometric costs,
-// plus the geometric term in geometric passes.
-MPMVS_HD MPMVS_FORCE_INLINE void CandidateCosts(const PassParams& params, const float* weights,
-                                                const Candidates& cand, const float* photo,
+// plus the geometric term when `geometric` (PixelGeometric).
+MPMVS_HD MPMVS_FORCE_INLINE void CandidateCosts(const PassParams& params, bool geometric,
+                                                const float* weights, const Candidates& cand,
+                                                const float* photo,
                                                 int u, int v, Vec3 ray, WeightedCost* costs) {
   const int N = params.num_sources;
   float wsum = 0.f;
@@ -460,7 +490,7 @@ MPMVS_HD MPMVS_FORCE_INLINE void CandidateCosts(const PassParams& params, const 
     for (int s = 0; s < N; ++s) c.photo += weights[s] * photo[r * N + s];
     c.photo /= wsum;
     c.geo = 0.f;
-    if (params.geometric) {
+    if (geometric) {
       const float depth = PlaneDepth(cand.plane[r], ray);
       for (int s = 0; s < N; ++s) {
         if (weights[s] > 0.f)
@@ -489,7 +519,8 @@ MPMVS_HD MPMVS_FORCE_INLINE Hypothesis StoredHypothesis(
     if (cand.valid[r] && SamePlane(cand.plane[r], h.plane)) current_row = r;
   }
   h.cost = current_row >= 0 ? costs[current_row]
-                            : EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, h.plane, num_ncc);
+                            : EvaluatePlane<Ncc>(params, PixelGeometric(params, prior.active), patch,
+                                                 weights, u, v, ray, h.plane, num_ncc);
   h.score = prior.active ? PriorScore(params.prior, prior.beta, h.cost.total, h.plane, prior.plane, ray) : 0.f;
   return h;
 }
@@ -558,7 +589,8 @@ MPMVS_HD MPMVS_FORCE_INLINE void Refine(const PassParams& params, const RefPatch
   for (int i = 0; i < 5; ++i) {
     if (!DepthInRange(params, planes.depth[i])) continue;
     const Plane plane = PlaneFromDepthNormal(ray, planes.depth[i], planes.normal[i]);
-    const WeightedCost c = EvaluatePlane<Ncc>(params, patch, weights, u, v, ray, plane, num_ncc);
+    const WeightedCost c = EvaluatePlane<Ncc>(params, PixelGeometric(params, prior.active), patch,
+                                              weights, u, v, ray, plane, num_ncc);
     const float score = prior.active ? PriorScore(params.prior, prior.beta, c.total, plane, prior.plane, ray) : 0.f;
     if (Replaces(prior, c, score, *current)) {
       current->plane = plane;
@@ -586,13 +618,14 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   float weights[kMaxSourceViews];
   const uint32_t selected = SelectPixelViews(params, state, u, v, photo, cand.valid, &rng, weights);
 
-  WeightedCost costs[kNumRegions];
-  CandidateCosts(params, weights, cand, photo, u, v, ray, costs);
-  PixelPrior prior{params.use_prior && params.prior.label[idx], Plane{}, 0.f};
+  PixelPrior prior{PixelPriorActive(params, patch, idx), Plane{}, 0.f};
   if (prior.active) {
     prior.plane = LoadPlane(params.prior.plane, idx);
     prior.beta = PixelPriorBeta(params, patch);
   }
+  WeightedCost costs[kNumRegions];
+  CandidateCosts(params, PixelGeometric(params, prior.active), weights, cand, photo, u, v, ray,
+                 costs);
   Hypothesis current = StoredHypothesis<Ncc>(params, state, patch, weights, cand, costs, prior, u,
                                              v, ray, num_ncc);
   AdoptBestCandidate(params, cand, costs, prior, ray, selected, &current);

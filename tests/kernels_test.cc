@@ -298,6 +298,51 @@ TEST(KernelPrior, ScoreFavoursThePriorPlane) {
             PriorScore(prior, prior.beta, 1.2f, near_plane, prior_plane, ray));
 }
 
+// With the texture-adaptive prior (noise floor on, beta above ACMP's) the prior acts on
+// plain windows only and leaves textured ones to their views; where it acts it takes the
+// geometric term's place. With ACMP's beta or without the noise floor it acts on every
+// labelled pixel, as in the paper.
+TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
+  const int W = 48, H = 32;
+  std::vector<float> img = RandomImage(W, H, 5);  // x < 24: texture
+  std::mt19937 rng(6);
+  std::normal_distribution<float> noise(0.f, 1.5f);
+  for (int y = 0; y < H; ++y) {
+    for (int x = 24; x < W; ++x) img[y * W + x] = 120.f + noise(rng);  // x >= 24: plain wall
+  }
+  std::vector<uint8_t> label(W * H, 1);
+  const ImageView view{img.data(), W, H};
+  const WindowSpec win = WindowForScale(0);
+  RefPatch textured, plain;
+  const int textured_idx = 16 * W + 10, plain_idx = 16 * W + 36;
+  ComputeRefPatch(view, 10, 16, win, &textured);
+  ComputeRefPatch(view, 36, 16, win, &plain);
+
+  PassParams params;
+  params.use_prior = true;
+  params.geometric = true;
+  params.prior.label = label.data();
+  params.prior.beta = 8.f;
+  params.noise_variance = 1.5f * 1.5f;
+  EXPECT_FALSE(PixelPriorActive(params, textured, textured_idx));
+  EXPECT_TRUE(PixelPriorActive(params, plain, plain_idx));
+  EXPECT_TRUE(PixelGeometric(params, PixelPriorActive(params, textured, textured_idx)));
+  EXPECT_FALSE(PixelGeometric(params, PixelPriorActive(params, plain, plain_idx)));
+  EXPECT_NEAR(PixelPriorBeta(params, plain), 8.f, 4.f);  // near prior.beta on the wall
+
+  label[plain_idx] = 0;  // unlabelled: no prior, the geometric term stays
+  EXPECT_FALSE(PixelPriorActive(params, plain, plain_idx));
+  EXPECT_TRUE(PixelGeometric(params, PixelPriorActive(params, plain, plain_idx)));
+
+  params.prior.beta = 0.18f;  // ACMP's beta: the paper's prior on every labelled pixel
+  EXPECT_TRUE(PixelPriorActive(params, textured, textured_idx));
+  params.prior.beta = 8.f;
+  params.noise_variance = 0.f;  // no noise floor: likewise
+  EXPECT_TRUE(PixelPriorActive(params, textured, textured_idx));
+  params.geometric = false;  // photometric passes never have the term
+  EXPECT_FALSE(PixelGeometric(params, false));
+}
+
 // The CPU backend's NCC (vectorised where its build allows; the test binary itself is
 // compiled without -march=native, so it goes through the backend's own entry point).
 TEST(KernelNcc, CpuBackendNccEqualsSharedScalar) {

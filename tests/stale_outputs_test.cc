@@ -13,6 +13,7 @@
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/sparse_model.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
+#include "colmap_ext/pipeline/state_record.h"
 #include "colmap_ext/util/error.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"
@@ -192,6 +193,18 @@ TEST(StaleOutputs, IntermediateStateOfOtherOptionsOrImagesIsNotResumed) {
   r = RunCaptured(run);
   ASSERT_EQ(r.error, "") << r.log;
   EXPECT_GE(r.summary.stages[0].images_computed, 1) << r.log;
+}
+
+// States carry the math revision in their options hash: states an older mp-mvs computed
+// with other per-pixel math (whose options text had another or no revision line) are
+// recomputed, never resumed.
+TEST(StaleOutputs, StatesOfAnotherMathRevisionHaveAnotherOptionsHash) {
+  const std::string text = StateOptionsText(MpMvsOptions{});
+  const std::string line = "math_revision " + std::to_string(kStateMathRevision) + "\n";
+  ASSERT_EQ(text.rfind(line, 0), 0u) << text;
+  const std::string older = text.substr(line.size());
+  EXPECT_NE(HashText(text), HashText(older));
+  EXPECT_NE(HashText(text), HashText("math_revision " + std::to_string(kStateMathRevision - 1) + "\n" + older));
 }
 
 // --- defect 5: --PatchMatchStereo.allow_missing_files ---------------------------------------

@@ -36,9 +36,14 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
   LogHeading("mp_patch_match_stereo finished in " + FormatDuration(s.seconds));
   char line[512];
   for (const StageSummary& st : s.stages) {
-    std::snprintf(line, sizeof(line), "stage %-12s %3d computed, %3d resumed, %8.1f s, %.2f Mpix*iterations/s",
+    // A cost sample: one of a window's 36 points matched in one source view.
+    const double samples = static_cast<double>(st.ncc_evaluations) * kernels::kWindowSamples;
+    std::snprintf(line, sizeof(line),
+                  "stage %-12s %3d computed, %3d resumed, %8.1f s, %.2f Mpix*iterations/s, %.0f cost samples "
+                  "per pixel and iteration",
                   st.name.c_str(), st.images_computed, st.images_resumed, st.seconds,
-                  st.seconds > 0 ? st.pixel_iterations / st.seconds / 1e6 : 0.0);
+                  st.seconds > 0 ? st.pixel_iterations / st.seconds / 1e6 : 0.0,
+                  st.pixel_iterations > 0 ? samples / st.pixel_iterations : 0.0);
     LogInfo(line);
   }
   std::snprintf(line, sizeof(line),

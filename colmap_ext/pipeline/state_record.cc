@@ -64,6 +64,7 @@ uint64_t StateChecksum(const FloatMap& state) {
 std::string StateOptionsText(const MpMvsOptions& o) {
   std::ostringstream s;
   s.precision(17);
+  s << "math_revision " << kStateMathRevision << "\n";
   s << "max_window_scale " << o.max_window_scale << "\niterations_per_scale " << o.iterations_per_scale
     << "\ndistant_sampling " << o.distant_sampling << "\nplanar_prior " << o.planar_prior << "\ngeom_iterations "
     << o.geom_iterations << "\nprior_iterations " << o.prior_iterations << "\nprior_rounds " << o.prior_rounds << "\ngeom_weight " << o.geom_weight

@@ -32,9 +32,15 @@ inline uint64_t HashText(const std::string& text) { return HashBytes(text.data()
 // Checksum of a state map: its sizes and every value.
 uint64_t StateChecksum(const FloatMap& state);
 
+// Revision of the per-pixel math and the prior's construction: bumped whenever a change
+// alters the states, so that a rerun with a newer mp-mvs recomputes older states instead
+// of resuming from them.
+constexpr int kStateMathRevision = 2;
+
 // The options that change a stage's result (all --MPMVS.* but overwrite and
 // write_pictures; image size, depth range and sources enter the inputs hash instead;
-// threads, cache, GPU and output-only options do not change the states).
+// threads, cache, GPU and output-only options do not change the states), and
+// kStateMathRevision.
 std::string StateOptionsText(const MpMvsOptions& options);
 
 // "" when absent or unreadable (then the state counts as unknown).
