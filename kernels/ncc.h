@@ -92,12 +92,13 @@ struct RefPatch {
   float offset_y[kWindowSamplesPadded];
   float mean;                             // sum weight * (I_ref - centre)
   float variance;                         // weighted variance
-  float texture;                          // weighted variance a linear ramp leaves
+  float texture;                          // weighted variance a linear ramp leaves (with_texture)
   float centre;                           // I_ref(p)
 };
 
+// with_texture: also fit the shading ramp (RefPatch::texture), which only prior passes use.
 MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const WindowSpec& win,
-                                     RefPatch* patch) {
+                                     RefPatch* patch, bool with_texture = false) {
   const float centre = ref.data[static_cast<long>(v) * ref.width + u];
   const float inv_spatial = 1.f / (2.f * kSigmaSpatial * kSigmaSpatial);
   const float inv_color = 1.f / (2.f * kSigmaColor * kSigmaColor);
@@ -146,6 +147,8 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   patch->mean = mean;
   patch->variance = sq - mean * mean;
   patch->centre = centre;
+  patch->texture = patch->variance;
+  if (!with_texture) return;
   // Smooth shading is locally a linear ramp, which matches itself under any shift along it
   // and so says nothing about depth: the texture is the variance a weighted ramp fit leaves.
   float mx = 0.f, my = 0.f;

@@ -197,6 +197,11 @@ MPMVS_HD inline bool TextureAdaptivePrior(const PassParams& params) {
   return params.noise_variance > 0.f && params.prior.beta > kAcmpBeta;
 }
 
+// Whether a pass reads RefPatch::texture (ComputeRefPatch's with_texture).
+MPMVS_HD MPMVS_FORCE_INLINE bool PriorNeedsTexture(const PassParams& params) {
+  return params.use_prior && TextureAdaptivePrior(params);
+}
+
 // The prior score's beta at a pixel: with the texture-adaptive prior, it follows the
 // window's texture (RefPatch::texture: what a linear ramp of shading does not explain), from
 // ACMP's 0.18 on texture (the views decide) to prior.beta where the texture is no more than
@@ -313,7 +318,7 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     have = plane.d != 0.f && DepthInRange(params, depth);
   }
   RefPatch patch;
-  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch, PriorNeedsTexture(params));
   const bool prior_pixel = PixelPriorActive(params, patch, idx);
   const bool geometric = PixelGeometric(params, prior_pixel);
   if (prior_pixel && (!have || !init_cost || init_cost[idx] >= 0.1f)) {
@@ -609,7 +614,7 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
   RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
   RefPatch patch;
-  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch, PriorNeedsTexture(params));
 
   Candidates cand;
   GatherCandidates(params, state, u, v, ray, &cand);

@@ -315,8 +315,8 @@ TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
   const WindowSpec win = WindowForScale(0);
   RefPatch textured, plain;
   const int textured_idx = 16 * W + 10, plain_idx = 16 * W + 36;
-  ComputeRefPatch(view, 10, 16, win, &textured);
-  ComputeRefPatch(view, 36, 16, win, &plain);
+  ComputeRefPatch(view, 10, 16, win, &textured, true);
+  ComputeRefPatch(view, 36, 16, win, &plain, true);
 
   PassParams params;
   params.use_prior = true;
