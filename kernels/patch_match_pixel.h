@@ -191,9 +191,11 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geomet
   return WeightedCost{photo + params.geom_lambda * geo, photo, geo};
 }
 
+// ACMP's beta of the prior score: the paper's value, and the texture-adaptive beta's floor.
+constexpr float kAcmpBeta = 0.18f;
+
 // Whether the texture-adaptive prior is on: the noise floor on and prior.beta above ACMP's.
 MPMVS_HD inline bool TextureAdaptivePrior(const PassParams& params) {
-  constexpr float kAcmpBeta = 0.18f;
   return params.noise_variance > 0.f && params.prior.beta > kAcmpBeta;
 }
 
@@ -208,7 +210,6 @@ MPMVS_HD MPMVS_FORCE_INLINE bool PriorNeedsTexture(const PassParams& params) {
 // the image noise (the views cannot tell planes apart; the prior decides). Otherwise
 // prior.beta everywhere (kernels/DESIGN.md 15, 16).
 MPMVS_HD inline float PixelPriorBeta(const PassParams& params, const RefPatch& patch) {
-  constexpr float kAcmpBeta = 0.18f;
   if (!TextureAdaptivePrior(params)) return params.prior.beta;
   const float flat = Min(1.f, params.noise_variance / Max(patch.texture, 1e-12f));
   return kAcmpBeta + (params.prior.beta - kAcmpBeta) * flat;
