@@ -168,6 +168,19 @@ const char* CpuBackendNccName() {
 #endif
 }
 
+std::vector<uint8_t> PlainWindowMaskCpu(const ImageView& ref, const WindowSpec& window,
+                                        float noise_variance, int num_threads) {
+  std::vector<uint8_t> plain(static_cast<size_t>(ref.width) * ref.height, 0);
+  ParallelRows(ref.height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
+    RefPatch patch;
+    for (int u = 0; u < ref.width; ++u) {
+      ComputeRefPatch(ref, u, v, window, &patch, /*with_texture=*/true);
+      plain[static_cast<size_t>(v) * ref.width + u] = PlainWindow(patch, noise_variance);
+    }
+  });
+  return plain;
+}
+
 void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_max, int num_threads,
                            PatchMatchResult* result) {
   MedianFilterInput in;

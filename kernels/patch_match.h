@@ -135,6 +135,11 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result);
 
+// 1 where the reference image's window of `window` around the pixel is plain (PlainWindow),
+// W*H entries (host, all cores).
+std::vector<uint8_t> PlainWindowMaskCpu(const ImageView& ref, const WindowSpec& window,
+                                        float noise_variance, int num_threads);
+
 // Median filter of the result's depths (median_filter.h), two checkerboard passes, all
 // cores (num_threads <= 0: all).
 void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_max, int num_threads,

@@ -169,13 +169,22 @@ struct WeightedCost {
 };
 
 // View-weighted cost of a plane (docs/algorithm.md §3 step 6, §7).
+//
+// reject_at (refinement): once the views costed so far alone bring the total to reject_at
+// or more, the plane cannot win and the remaining views are skipped; *rejected is then set
+// and the returned cost is meaningless. Every per-view term is >= 0 and float rounding is
+// monotone, so the full sum could only have been larger: skipping changes no result
+// (kernels/DESIGN.md 18).
 template <class Ncc>
 MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geometric,
                                            const RefPatch& patch, const float* weights, int u,
                                            int v, Vec3 ray, const Plane& plane,
-                                           uint32_t* num_ncc) {
+                                           uint32_t* num_ncc, float reject_at = INFINITY,
+                                           bool* rejected = nullptr) {
   const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
   const float depth = geometric ? PlaneDepth(plane, ray) : 0.f;
+  float weight_total = 0.f;
+  for (int s = 0; s < params.num_sources; ++s) weight_total += Max(weights[s], 0.f);
   float wsum = 0.f, photo = 0.f, geo = 0.f;
   for (int s = 0; s < params.num_sources; ++s) {
     const float w = weights[s];
@@ -183,6 +192,10 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geomet
     wsum += w;
     photo += w * ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
     if (geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
+    if (photo / weight_total + params.geom_lambda * (geo / weight_total) >= reject_at) {
+      if (rejected) *rejected = true;
+      return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
+    }
   }
   if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
   photo /= wsum;
@@ -215,13 +228,19 @@ MPMVS_HD inline float PixelPriorBeta(const PassParams& params, const RefPatch& p
   return kAcmpBeta + (params.prior.beta - kAcmpBeta) * flat;
 }
 
-// Whether the prior acts at a labelled pixel of a prior pass: with the texture-adaptive
-// prior only where the window's texture is at most twice the image noise variance; textured
-// windows keep what their views say (kernels/DESIGN.md 16).
-MPMVS_HD inline bool PixelPriorActive(const PassParams& params, const RefPatch& patch, int idx) {
+// Whether a window is plain: its texture (RefPatch::texture, with_texture) is at most twice
+// the image noise variance, so its views cannot tell nearby planes apart.
+MPMVS_HD MPMVS_FORCE_INLINE bool PlainWindow(const RefPatch& patch, float noise_variance) {
   constexpr float kMaxTextureToNoise = 2.f;
+  return patch.texture <= kMaxTextureToNoise * noise_variance;
+}
+
+// Whether the prior acts at a labelled pixel of a prior pass: with the texture-adaptive
+// prior only on plain windows; textured windows keep what their views say (kernels/DESIGN.md
+// 16).
+MPMVS_HD inline bool PixelPriorActive(const PassParams& params, const RefPatch& patch, int idx) {
   if (!params.use_prior || !params.prior.label[idx]) return false;
-  return !TextureAdaptivePrior(params) || patch.texture <= kMaxTextureToNoise * params.noise_variance;
+  return !TextureAdaptivePrior(params) || PlainWindow(patch, params.noise_variance);
 }
 
 // Whether a pixel's costs include the geometric term: in geometric passes, except where the
@@ -232,19 +251,32 @@ MPMVS_HD MPMVS_FORCE_INLINE bool PixelGeometric(const PassParams& params, bool p
   return params.geometric && !prior_active;
 }
 
-// Planar compatibility score to maximise (ACMP): exp(-C^2/beta) * (gamma + depth/normal
-// agreement with the prior plane).
-MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float beta, float cost, const Plane& plane,
-                                 const Plane& prior_plane, Vec3 ray) {
+// A plane's agreement with the prior plane (ACMP): gamma + depth and normal agreement.
+MPMVS_HD inline float PriorCompatibility(const PlanarPrior& prior, const Plane& plane,
+                                         const Plane& prior_plane, Vec3 ray) {
   const float depth = PlaneDepth(plane, ray);
   const float prior_depth = PlaneDepth(prior_plane, ray);
   const float dz = depth - prior_depth;
   const float cos_angle = Clamp(Dot(plane.n, prior_plane.n), -1.f, 1.f);
   const float angle = acosf(cos_angle);
-  const float compat =
-      prior.gamma + expf(-dz * dz / (2.f * prior.sigma_depth * prior.sigma_depth)) *
-                        expf(-angle * angle / (2.f * prior.sigma_normal * prior.sigma_normal));
-  return expf(-cost * cost / beta) * compat;
+  return prior.gamma + expf(-dz * dz / (2.f * prior.sigma_depth * prior.sigma_depth)) *
+                           expf(-angle * angle / (2.f * prior.sigma_normal * prior.sigma_normal));
+}
+
+// Planar compatibility score to maximise (ACMP): exp(-C^2/beta) * PriorCompatibility.
+MPMVS_HD inline float PriorScore(const PlanarPrior& prior, float beta, float cost, const Plane& plane,
+                                 const Plane& prior_plane, Vec3 ray) {
+  return expf(-cost * cost / beta) * PriorCompatibility(prior, plane, prior_plane, ray);
+}
+
+// The cost at or above which a plane of compatibility `compat` cannot beat prior score
+// `score` (exp(-C^2/beta) * compat > score needs C^2 < beta * ln(compat / score)); with a
+// margin of 1e-3 for the rounding of expf, logf and sqrtf, so that it only errs on the
+// side of costing a plane in full.
+MPMVS_HD MPMVS_FORCE_INLINE float PriorRejectCost(float beta, float compat, float score) {
+  if (!(score > 0.f)) return INFINITY;
+  if (compat <= score) return 0.f;
+  return 1.001f * sqrtf(beta * logf(compat / score)) + 1e-6f;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -595,9 +627,13 @@ MPMVS_HD MPMVS_FORCE_INLINE void Refine(const PassParams& params, const RefPatch
   for (int i = 0; i < 5; ++i) {
     if (!DepthInRange(params, planes.depth[i])) continue;
     const Plane plane = PlaneFromDepthNormal(ray, planes.depth[i], planes.normal[i]);
-    const WeightedCost c = EvaluatePlane<Ncc>(params, PixelGeometric(params, prior.active), patch,
-                                              weights, u, v, ray, plane, num_ncc);
-    const float score = prior.active ? PriorScore(params.prior, prior.beta, c.total, plane, prior.plane, ray) : 0.f;
+    const float compat = prior.active ? PriorCompatibility(params.prior, plane, prior.plane, ray) : 0.f;
+    const float reject_at = prior.active ? PriorRejectCost(prior.beta, compat, current->score) : current->cost.total;
+    bool rejected = false;
+    const WeightedCost c = EvaluatePlane<Ncc>(params, PixelGeometric(params, prior.active), patch, weights,
+                                              u, v, ray, plane, num_ncc, reject_at, &rejected);
+    if (rejected) continue;
+    const float score = prior.active ? expf(-c.total * c.total / prior.beta) * compat : 0.f;
     if (Replaces(prior, c, score, *current)) {
       current->plane = plane;
       current->cost = c;

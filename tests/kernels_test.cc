@@ -343,6 +343,97 @@ TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
   EXPECT_FALSE(PixelGeometric(params, false));
 }
 
+// Plain windows (no vertices of the planar prior, prior acts) are those whose texture after
+// removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
+TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
+  const int W = 64, H = 40;
+  std::vector<float> img = RandomImage(W, H, 7);  // x < 32: texture
+  std::mt19937 rng(8);
+  std::normal_distribution<float> noise(0.f, 1.5f);
+  for (int y = 0; y < H; ++y) {
+    for (int x = 32; x < W; ++x) img[y * W + x] = 60.f + 3.f * x + 1.5f * y + noise(rng);  // steep ramp
+  }
+  const std::vector<uint8_t> plain =
+      PlainWindowMaskCpu(ImageView{img.data(), W, H}, WindowForScale(0), 1.5f * 1.5f, 2);
+  ASSERT_EQ(plain.size(), static_cast<size_t>(W * H));
+  int textured_plain = 0, wall_plain = 0, wall = 0;
+  for (int y = 5; y < H - 5; ++y) {
+    for (int x = 5; x < W - 5; ++x) {
+      if (x < 27) textured_plain += plain[y * W + x];
+      if (x >= 37) {
+        ++wall;
+        wall_plain += plain[y * W + x];
+      }
+    }
+  }
+  EXPECT_EQ(textured_plain, 0);
+  EXPECT_GT(wall_plain, 0.9 * wall);
+}
+
+// Refinement stops costing a plane once the views costed so far already put it at or above
+// the plane to beat: it is rejected exactly when its full cost would not have won, and a
+// plane that is costed in full gets the cost it always had.
+TEST(KernelRefinement, RejectedPlanesCouldNotHaveWon) {
+  const int W = 80, H = 60;
+  const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const float t0[3] = {0.f, 0.f, 0.f};
+  const std::vector<float> img = RandomImage(W, H, 21);
+  PatchMatchProblem problem;
+  problem.ref_camera = MakeCamera(W, H, 70.f, I, t0);
+  problem.ref_image = ImageView{img.data(), W, H};
+  for (int s = 0; s < 3; ++s) {
+    const float t[3] = {0.1f * (s + 1), 0.03f * s, 0.f};
+    PatchMatchSource source;
+    source.camera = MakeCamera(W, H, 70.f, I, t);
+    source.image = problem.ref_image;
+    problem.sources.push_back(source);
+  }
+  problem.depth_min = 1.f;
+  problem.depth_max = 10.f;
+  PatchMatchSchedule schedule;
+  schedule.iterations.push_back({0, 0});
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  const PassParams params = MakePassParams(problem, schedule, sources.data());
+  const float weights[3] = {5.f, 0.f, 10.f};
+  RefPatch patch;
+  const int u = 40, v = 30;
+  ComputeRefPatch(problem.ref_image, u, v, params.window, &patch);
+  const Vec3 ray = PixelRay(problem.ref_camera, float(u), float(v));
+  const Plane plane = PlaneFromDepthNormal(ray, 4.f, Normalize(Vec3{0.1f, 0.2f, -1.f}));
+  uint32_t n_full = 0;
+  const WeightedCost full = EvaluatePlane<ScalarNcc>(params, false, patch, weights, u, v, ray, plane, &n_full);
+  ASSERT_EQ(n_full, 2u);
+  ASSERT_GT(full.total, 0.f);
+  for (const float reject_at : {full.total + 1e-4f, INFINITY}) {
+    bool rejected = false;
+    uint32_t n = 0;
+    const WeightedCost c =
+        EvaluatePlane<ScalarNcc>(params, false, patch, weights, u, v, ray, plane, &n, reject_at, &rejected);
+    EXPECT_FALSE(rejected);
+    EXPECT_EQ(c.total, full.total);
+    EXPECT_EQ(n, n_full);
+  }
+  bool rejected = false;
+  uint32_t n = 0;
+  EvaluatePlane<ScalarNcc>(params, false, patch, weights, u, v, ray, plane, &n, full.total, &rejected);
+  EXPECT_TRUE(rejected);  // equal cost does not replace
+  rejected = false;
+  n = 0;
+  EvaluatePlane<ScalarNcc>(params, false, patch, weights, u, v, ray, plane, &n, 1e-6f, &rejected);
+  EXPECT_TRUE(rejected);
+  EXPECT_EQ(n, 1u);  // the second selected view was never sampled
+
+  // On prior pixels: no cost at or above PriorRejectCost scores above the score to beat.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> unit(0.f, 1.f);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const float beta = 0.18f + 8.f * unit(rng), compat = 0.5f + unit(rng), score = 1.5f * unit(rng) + 1e-6f;
+    const float reject = PriorRejectCost(beta, compat, score);
+    const float cost = reject + 0.01f * unit(rng);
+    EXPECT_LE(expf(-cost * cost / beta) * compat, score) << beta << " " << compat << " " << score;
+  }
+}
+
 // The CPU backend's NCC (vectorised where its build allows; the test binary itself is
 // compiled without -march=native, so it goes through the backend's own entry point).
 TEST(KernelNcc, CpuBackendNccEqualsSharedScalar) {

@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <thread>
@@ -34,6 +36,23 @@ std::string ScratchDir(const std::string& name) {
   return dir.string();
 }
 
+// View 0 of a workspace as reference with views 1..num_sources as sources (their images are
+// kept in *images, which must outlive the problem).
+kernels::PatchMatchProblem ViewZeroProblem(const DenseWorkspace& ws, int num_sources, std::vector<GrayImage>* images) {
+  images->clear();
+  for (int i = 0; i <= num_sources; ++i) images->push_back(ws.ReadGray(i));
+  kernels::PatchMatchProblem problem;
+  problem.ref_camera = ToKernelCamera(ws.views[0]);
+  problem.ref_image = {(*images)[0].data.data(), (*images)[0].width, (*images)[0].height};
+  for (int s = 1; s <= num_sources; ++s) {
+    const GrayImage& img = (*images)[s];
+    problem.sources.push_back({{img.data.data(), img.width, img.height}, ToKernelCamera(ws.views[s]), nullptr});
+  }
+  problem.depth_min = ws.views[0].depth_min;
+  problem.depth_max = ws.views[0].depth_max;
+  return problem;
+}
+
 // Photometric mPM stage (9 iterations) of one 640x480 reference image with 4 sources of the
 // synthetic plane scene, on `threads` threads.
 void BM_PhotometricStage(benchmark::State& state) {
@@ -52,15 +71,7 @@ void BM_PhotometricStage(benchmark::State& state) {
   }();
   const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
   std::vector<GrayImage> images;
-  for (size_t i = 0; i < ws.views.size(); ++i) images.push_back(ws.ReadGray(static_cast<int>(i)));
-  kernels::PatchMatchProblem problem;
-  problem.ref_camera = ToKernelCamera(ws.views[0]);
-  problem.ref_image = {images[0].data.data(), images[0].width, images[0].height};
-  for (size_t s = 1; s < images.size(); ++s) {
-    problem.sources.push_back({{images[s].data.data(), images[s].width, images[s].height}, ToKernelCamera(ws.views[s]), nullptr});
-  }
-  problem.depth_min = ws.views[0].depth_min;
-  problem.depth_max = ws.views[0].depth_max;
+  const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, static_cast<int>(ws.views.size()) - 1, &images);
   kernels::PatchMatchSchedule schedule;
   for (int s = 2; s >= 0; --s) {
     for (int t = 0; t < 3; ++t) schedule.iterations.push_back({s, t});
@@ -86,6 +97,86 @@ void BM_PhotometricStage(benchmark::State& state) {
   state.counters["peak_MiB"] = PeakMemoryMiB();
 }
 BENCHMARK(BM_PhotometricStage)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// Time of the photometric stage's iterations against the number of source views and the
+// image size (it should grow no faster than pixels x sources x iterations). The
+// synthetic plane scene with 17 views; reference view 0 with its first N sources; one
+// window scale, 3 iterations, 2 threads. Prints a table and the fitted exponents
+// (least squares of log time on log sources / log pixels).
+struct SweepPoint {
+  int sources, width, height;
+  double seconds, samples_per_px_it;
+};
+
+SweepPoint RunSweepPoint(int num_sources, int width, int height) {
+  const std::string dir = ScratchDir("sweep_" + std::to_string(width));
+  if (!FileExists(dir + "/gt/scene_info.json")) {
+    SyntheticSceneOptions o;
+    o.scene = "plane";
+    o.width = width;
+    o.height = height;
+    o.num_views = 17;
+    o.plane_tilt_deg = 30;
+    o.supersampling = 1;
+    o.write_gt_points = false;
+    GenerateSyntheticScene(o, dir);
+  }
+  const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
+  std::vector<GrayImage> images;
+  const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, num_sources, &images);
+  kernels::PatchMatchSchedule schedule;
+  for (int t = 0; t < 3; ++t) schedule.iterations.push_back({0, t});
+  schedule.num_threads = 2;
+  kernels::PatchMatchResult result;
+  kernels::RunPatchMatchCpu(problem, schedule, &result);
+  SweepPoint p{num_sources, width, height, 0.0, 0.0};
+  uint64_t nccs = 0;
+  for (const auto& it : result.iterations) {
+    p.seconds += it.seconds;
+    nccs += it.ncc_evaluations;
+  }
+  p.samples_per_px_it = static_cast<double>(nccs) * kernels::kWindowSamples / (static_cast<double>(width) * height * result.iterations.size());
+  return p;
+}
+
+// Slope of log(y) against log(x).
+double LogLogSlope(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < x.size(); ++i) mx += std::log(x[i]) / x.size(), my += std::log(y[i]) / y.size();
+  double sxy = 0, sxx = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
+    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
+  }
+  return sxy / sxx;
+}
+
+void BM_ScalingSweep(benchmark::State& state) {
+  for (auto _ : state) {
+    std::vector<double> n, t_n, px, t_px;
+    std::printf("\n%8s %12s %12s %14s %16s\n", "sources", "image", "Mpx", "s (3 its)", "samples/px/it");
+    auto row = [](const SweepPoint& p) {
+      std::printf("%8d %5dx%-6d %12.2f %14.2f %16.0f\n", p.sources, p.width, p.height,
+                  p.width * p.height / 1e6, p.seconds, p.samples_per_px_it);
+    };
+    for (int sources : {2, 4, 8, 16}) {  // at 1 Mpx
+      const SweepPoint p = RunSweepPoint(sources, 1152, 864);
+      row(p);
+      n.push_back(sources);
+      t_n.push_back(p.seconds);
+    }
+    for (const auto& size : std::vector<std::pair<int, int>>{{576, 432}, {816, 612}, {1152, 864}, {1632, 1224}}) {
+      const SweepPoint p = RunSweepPoint(4, size.first, size.second);  // 0.25, 0.5, 1, 2 Mpx
+      row(p);
+      px.push_back(static_cast<double>(size.first) * size.second);
+      t_px.push_back(p.seconds);
+    }
+    state.counters["exponent_sources"] = LogLogSlope(n, t_n);
+    state.counters["exponent_pixels"] = LogLogSlope(px, t_px);
+    state.counters["peak_MiB"] = PeakMemoryMiB();
+  }
+}
+BENCHMARK(BM_ScalingSweep)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 // The whole run on a real two-view Middlebury 2014 pair (~0.36 Mpx each), both images.
 // Arg 0: the ACMH baseline of issue 4 (ablation row "ACMH": 11 px windows, ACMH pattern, no

@@ -83,6 +83,27 @@ TEST(PlanarPrior, VertexSelectionFollowsThePaper) {
   EXPECT_EQ(v[0].u, 4);  // ACMP ignores the geometric error
 }
 
+// A plain window matches wrong planes as well as the right one: with a plain mask it is
+// never a vertex, however low its costs; the other pixels of its cell still are.
+TEST(PlanarPrior, PlainWindowsAreNoVertices) {
+  const int W = 10, H = 5;
+  std::vector<float> depth(W * H, 2.f), photo(W * H, 0.5f), geo(W * H, 0.f);
+  photo[1] = 0.01f;  // cell 0: the best pixel is plain
+  photo[2] = 0.10f;
+  photo[6] = 0.01f;  // cell 1: plain only
+  std::vector<uint8_t> plain(W * H, 0);
+  plain[1] = plain[6] = 1;
+  PlanarPriorOptions options;
+  std::vector<PlanarPriorVertex> v = SelectPriorVertices(W, H, depth, photo, geo, options, nullptr, &plain);
+  ASSERT_EQ(v.size(), 1u);
+  EXPECT_EQ(v[0].u, 2);
+  options.selection = PlanarPriorOptions::Selection::kPhotometric;
+  v = SelectPriorVertices(W, H, depth, photo, geo, options, nullptr, &plain);
+  EXPECT_TRUE(v.empty());  // photometric selection: cost < 0.1 left only plain pixels
+  v = SelectPriorVertices(W, H, depth, photo, geo, options);
+  EXPECT_EQ(v.size(), 2u);  // without the mask: the paper's rule
+}
+
 TEST(PlanarPrior, TrianglesAcrossADepthStepTakeAPlaneOfOneSide) {
   const kernels::Camera cam = MakeCamera(60, 40);
   std::vector<float> depth(60 * 40), photo(60 * 40, 1.f), geo(60 * 40, 0.f);

@@ -112,7 +112,8 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
                                                    const std::vector<float>& photo_cost,
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
-                                                   const std::vector<float>* planes) {
+                                                   const std::vector<float>* planes,
+                                                   const std::vector<uint8_t>* plain) {
   const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
   const int per_cell = geometric ? options.points_per_cell : 1;
   const int cs = options.cell_size;
@@ -124,7 +125,9 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
       for (int v = cy; v < std::min(cy + cs, H); ++v) {
         for (int u = cx; u < std::min(cx + cs, W); ++u) {
           const int i = v * W + u;
-          if (!(depth[i] > 0.f)) continue;
+          // A plain window matches nearby wrong planes about as well as the right one (on
+          // smooth shading, consistently across views): it anchors no triangle.
+          if (!(depth[i] > 0.f) || (plain && (*plain)[i])) continue;
           if (geometric) {
             // MP-MVS (paper): photometric cost < 0.2 and reprojection error < 1 px.
             if (photo_cost[i] < options.max_photo_cost && geo_error[i] < options.max_geom_error)
@@ -151,12 +154,13 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
-                                  const std::vector<float>* planes) {
+                                  const std::vector<float>* planes,
+                                  const std::vector<uint8_t>* plain) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes);
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, plain);
   if (model.vertices.size() < 3) return model;
 
   std::vector<std::pair<Kernel::Point_2, int>> points;

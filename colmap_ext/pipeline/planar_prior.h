@@ -38,12 +38,14 @@ struct PlanarPriorModel {
 
 // depth (W*H, 0 = none), photo_cost and geo_error (W*H) describe the reference image's
 // current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
-// label.
+// label. plain (W*H, optional): 1 on plain windows (kernels::PlainWindow), which are never
+// vertices.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
-                                  const std::vector<float>* planes = nullptr);
+                                  const std::vector<float>* planes = nullptr,
+                                  const std::vector<uint8_t>* plain = nullptr);
 
 // The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
 std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);
@@ -54,6 +56,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& photo_cost,
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
-                                                   const std::vector<float>* planes = nullptr);
+                                                   const std::vector<float>* planes = nullptr,
+                                                   const std::vector<uint8_t>* plain = nullptr);
 
 }  // namespace mpmvs

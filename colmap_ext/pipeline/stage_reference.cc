@@ -1,5 +1,7 @@
 #include "colmap_ext/pipeline/stage_reference.h"
 
+#include <algorithm>
+
 #include "colmap_ext/pipeline/image_noise.h"
 #include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/util/logging.h"
@@ -50,8 +52,20 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
                                                       : PlanarPriorOptions::Selection::kPhotometric;
   kernels::PatchMatchProblem& problem = ref->pm;
   const std::vector<float> depth = ResultDepth(ref->input, problem.ref_camera, p.depth_min, p.depth_max);
+  // With the texture-adaptive prior, pixels whose grey window of the middle mPM scale is
+  // plain are no vertices (kernels/DESIGN.md 17).
+  std::vector<uint8_t> plain;
+  if (stage.schedule.noise_floor && stage.schedule.prior_beta > kernels::kAcmpBeta) {
+    constexpr int kVertexTextureScale = 1;
+    const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
+    kernels::ImageView grey = problem.ref_image;
+    grey.chroma = nullptr;  // colour edges split the bilateral window, yet are texture
+    plain = kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(std::min(kVertexTextureScale, coarsest)),
+                                        problem.ref_noise_variance, stage.schedule.num_threads);
+  }
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
-                                p.depth_min, p.depth_max, options, &ref->input.plane);
+                                p.depth_min, p.depth_max, options, &ref->input.plane,
+                                plain.empty() ? nullptr : &plain);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;
