@@ -183,21 +183,21 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geomet
                                            bool* rejected = nullptr) {
   const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
   const float depth = geometric ? PlaneDepth(plane, ray) : 0.f;
-  float weight_total = 0.f;
-  for (int s = 0; s < params.num_sources; ++s) weight_total += Max(weights[s], 0.f);
-  float wsum = 0.f, photo = 0.f, geo = 0.f;
+  // The weights are the view selection's draw counts: their sum is exact in any order.
+  float wsum = 0.f;
+  for (int s = 0; s < params.num_sources; ++s) wsum += Max(weights[s], 0.f);
+  if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
+  float photo = 0.f, geo = 0.f;
   for (int s = 0; s < params.num_sources; ++s) {
     const float w = weights[s];
     if (w <= 0.f) continue;
-    wsum += w;
     photo += w * ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
     if (geometric) geo += w * GeometricError(params, params.sources[s], u, v, ray, depth);
-    if (photo / weight_total + params.geom_lambda * (geo / weight_total) >= reject_at) {
+    if (photo / wsum + params.geom_lambda * (geo / wsum) >= reject_at) {
       if (rejected) *rejected = true;
       return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
     }
   }
-  if (!(wsum > 0.f)) return WeightedCost{kInvalidCost, kInvalidCost, params.geom_max_error};
   photo /= wsum;
   if (params.noise_variance > 0.f) photo = Max(photo, Min(1.f, params.noise_variance / patch.variance));
   geo = geometric ? geo / wsum : 0.f;
@@ -207,9 +207,13 @@ MPMVS_HD inline WeightedCost EvaluatePlane(const PassParams& params, bool geomet
 // ACMP's beta of the prior score: the paper's value, and the texture-adaptive beta's floor.
 constexpr float kAcmpBeta = 0.18f;
 
-// Whether the texture-adaptive prior is on: the noise floor on and prior.beta above ACMP's.
+// Whether the texture-adaptive prior is on: the noise floor on (image noise variance > 0)
+// and the prior's beta above ACMP's.
+MPMVS_HD MPMVS_FORCE_INLINE bool TextureAdaptivePrior(float noise_variance, float prior_beta) {
+  return noise_variance > 0.f && prior_beta > kAcmpBeta;
+}
 MPMVS_HD inline bool TextureAdaptivePrior(const PassParams& params) {
-  return params.noise_variance > 0.f && params.prior.beta > kAcmpBeta;
+  return TextureAdaptivePrior(params.noise_variance, params.prior.beta);
 }
 
 // Whether a pass reads RefPatch::texture (ComputeRefPatch's with_texture).

@@ -75,6 +75,19 @@ std::vector<float> RandomImage(int w, int h, unsigned seed) {
   return img;
 }
 
+// A random texture left of x = W / 2 and, right of it, wall(x, y) plus Gaussian noise of
+// sigma 1.5 grey levels.
+template <class Wall>
+std::vector<float> TextureThenWall(int w, int h, unsigned seed, const Wall& wall) {
+  std::vector<float> img = RandomImage(w, h, seed);
+  std::mt19937 rng(seed + 1);
+  std::normal_distribution<float> noise(0.f, 1.5f);
+  for (int y = 0; y < h; ++y) {
+    for (int x = w / 2; x < w; ++x) img[y * w + x] = wall(x, y) + noise(rng);
+  }
+  return img;
+}
+
 TEST(KernelNcc, InvariantToGainAndOffset) {
   const int W = 64, H = 64;
   std::vector<float> ref = RandomImage(W, H, 1);
@@ -304,12 +317,7 @@ TEST(KernelPrior, ScoreFavoursThePriorPlane) {
 // labelled pixel, as in the paper.
 TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
   const int W = 48, H = 32;
-  std::vector<float> img = RandomImage(W, H, 5);  // x < 24: texture
-  std::mt19937 rng(6);
-  std::normal_distribution<float> noise(0.f, 1.5f);
-  for (int y = 0; y < H; ++y) {
-    for (int x = 24; x < W; ++x) img[y * W + x] = 120.f + noise(rng);  // x >= 24: plain wall
-  }
+  const std::vector<float> img = TextureThenWall(W, H, 5, [](int, int) { return 120.f; });  // wall from x = 24
   std::vector<uint8_t> label(W * H, 1);
   const ImageView view{img.data(), W, H};
   const WindowSpec win = WindowForScale(0);
@@ -347,12 +355,8 @@ TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
 // removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
 TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
   const int W = 64, H = 40;
-  std::vector<float> img = RandomImage(W, H, 7);  // x < 32: texture
-  std::mt19937 rng(8);
-  std::normal_distribution<float> noise(0.f, 1.5f);
-  for (int y = 0; y < H; ++y) {
-    for (int x = 32; x < W; ++x) img[y * W + x] = 60.f + 3.f * x + 1.5f * y + noise(rng);  // steep ramp
-  }
+  const std::vector<float> img =  // a steeply lit wall from x = 32
+      TextureThenWall(W, H, 7, [](int x, int y) { return 60.f + 3.f * x + 1.5f * y; });
   const std::vector<uint8_t> plain =
       PlainWindowMaskCpu(ImageView{img.data(), W, H}, WindowForScale(0), 1.5f * 1.5f, 2);
   ASSERT_EQ(plain.size(), static_cast<size_t>(W * H));

@@ -36,6 +36,24 @@ std::string ScratchDir(const std::string& name) {
   return dir.string();
 }
 
+// The synthetic plane scene in a scratch directory, generated once.
+std::string PlaneScene(const std::string& name, int width, int height, int num_views, double tilt_deg,
+                       int supersampling) {
+  const std::string dir = ScratchDir(name);
+  if (!FileExists(dir + "/gt/scene_info.json")) {
+    SyntheticSceneOptions o;
+    o.scene = "plane";
+    o.width = width;
+    o.height = height;
+    o.num_views = num_views;
+    o.plane_tilt_deg = tilt_deg;
+    o.supersampling = supersampling;
+    o.write_gt_points = false;  // the benchmarks read the images and cameras only
+    GenerateSyntheticScene(o, dir);
+  }
+  return dir;
+}
+
 // View 0 of a workspace as reference with views 1..num_sources as sources (their images are
 // kept in *images, which must outlive the problem).
 kernels::PatchMatchProblem ViewZeroProblem(const DenseWorkspace& ws, int num_sources, std::vector<GrayImage>* images) {
@@ -56,19 +74,7 @@ kernels::PatchMatchProblem ViewZeroProblem(const DenseWorkspace& ws, int num_sou
 // Photometric mPM stage (9 iterations) of one 640x480 reference image with 4 sources of the
 // synthetic plane scene, on `threads` threads.
 void BM_PhotometricStage(benchmark::State& state) {
-  static const std::string dir = [] {
-    const std::string d = ScratchDir("plane640");
-    if (!FileExists(d + "/gt/scene_info.json")) {
-      SyntheticSceneOptions o;
-      o.scene = "plane";
-      o.width = 640;
-      o.height = 480;
-      o.num_views = 5;
-      o.plane_tilt_deg = 40;
-      GenerateSyntheticScene(o, d);
-    }
-    return d;
-  }();
+  static const std::string dir = PlaneScene("plane640", 640, 480, 5, 40.0, 3);
   const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
   std::vector<GrayImage> images;
   const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, static_cast<int>(ws.views.size()) - 1, &images);
@@ -109,18 +115,7 @@ struct SweepPoint {
 };
 
 SweepPoint RunSweepPoint(int num_sources, int width, int height) {
-  const std::string dir = ScratchDir("sweep_" + std::to_string(width));
-  if (!FileExists(dir + "/gt/scene_info.json")) {
-    SyntheticSceneOptions o;
-    o.scene = "plane";
-    o.width = width;
-    o.height = height;
-    o.num_views = 17;
-    o.plane_tilt_deg = 30;
-    o.supersampling = 1;
-    o.write_gt_points = false;
-    GenerateSyntheticScene(o, dir);
-  }
+  const std::string dir = PlaneScene("sweep_" + std::to_string(width), width, height, 17, 30.0, 1);
   const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
   std::vector<GrayImage> images;
   const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, num_sources, &images);

@@ -55,7 +55,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   // With the texture-adaptive prior, pixels whose grey window of the middle mPM scale is
   // plain are no vertices (kernels/DESIGN.md 17).
   std::vector<uint8_t> plain;
-  if (stage.schedule.noise_floor && stage.schedule.prior_beta > kernels::kAcmpBeta) {
+  if (kernels::TextureAdaptivePrior(problem.ref_noise_variance, stage.schedule.prior_beta)) {
     constexpr int kVertexTextureScale = 1;
     const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
     kernels::ImageView grey = problem.ref_image;
