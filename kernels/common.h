@@ -33,7 +33,17 @@ MPMVS_HD MPMVS_FORCE_INLINE int MaxI(int a, int b) { return a > b ? a : b; }
 // e^-x for x >= 0, inline and branch-free (the reference-patch weights and view selection need
 // dozens per pixel update; libm's expf is a call). Relative error below 1e-5.
 MPMVS_HD MPMVS_FORCE_INLINE float ExpNeg(float x) {
-  const float t = Max(Min(x * 1.44269504f, 125.f), 0.f);  // e^-x = 2^-t; NaN -> 125, int-safe
+  // t = x log2(e) clamped to [0, 125] (e^-x = 2^-t; NaN -> 125, int-safe), on the bit
+  // pattern: integer selects vectorise where float compares, which may trap, do not.
+  constexpr int32_t kBits125 = 0x42fa0000;  // 125.f
+  const float scaled = x * 1.44269504f;
+  int32_t b;
+  memcpy(&b, &scaled, sizeof(b));
+  const int32_t nan_mask = (0x7f800000 - (b & 0x7fffffff)) >> 31;  // all ones for NaN
+  b = MinI(MaxI(b, 0), kBits125);
+  b = (b & ~nan_mask) | (kBits125 & nan_mask);
+  float t;
+  memcpy(&t, &b, sizeof(t));
   const int n = static_cast<int>(t);
   const float y = -(t - static_cast<float>(n)) * 0.693147181f;  // 2^-frac = e^y, y in (-ln2, 0]
   const float p =

@@ -34,17 +34,29 @@ constexpr int kWindowSamples = kWindowSamplesPerAxis * kWindowSamplesPerAxis;
 // vectorised CPU specialisation (ncc_simd.h) can run whole SIMD lanes.
 constexpr int kWindowSamplesPadded = 40;
 
+// Made by WindowForScale.
 struct WindowSpec {
   int radius = 5;
   int step = 2;
+  // Distance of sample k (row-major) from the centre, for the bilateral spatial term: per
+  // window, not per pixel update (36 square roots were 5 % of a whole run).
+  float distance[kWindowSamples] = {};
 };
 
-MPMVS_HD MPMVS_FORCE_INLINE WindowSpec WindowForScale(int scale) {
-  return WindowSpec{5 << scale, 2 << scale};
-}
-MPMVS_HD MPMVS_FORCE_INLINE int WindowSide(const WindowSpec& w) { return 2 * w.radius + 1; }
 // Offset of sample k (0..5) along an axis.
 MPMVS_HD MPMVS_FORCE_INLINE int WindowOffset(const WindowSpec& w, int k) { return -w.radius + k * w.step; }
+MPMVS_HD inline WindowSpec WindowForScale(int scale) {
+  WindowSpec w;
+  w.radius = 5 << scale;
+  w.step = 2 << scale;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    const int dx = WindowOffset(w, k % kWindowSamplesPerAxis);
+    const int dy = WindowOffset(w, k / kWindowSamplesPerAxis);
+    w.distance[k] = sqrtf(static_cast<float>(dx * dx + dy * dy));
+  }
+  return w;
+}
+MPMVS_HD MPMVS_FORCE_INLINE int WindowSide(const WindowSpec& w) { return 2 * w.radius + 1; }
 
 // Bilateral weight constants (distances unsquared, as in the reference code). σ_c is 2.5,
 // not ACMH's 3: measured on real and synthetic scenes, kernels/DESIGN.md item 11.
@@ -102,32 +114,33 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   const float centre = ref.data[static_cast<long>(v) * ref.width + u];
   const float inv_spatial = 1.f / (2.f * kSigmaSpatial * kSigmaSpatial);
   const float inv_color = 1.f / (2.f * kSigmaColor * kSigmaColor);
-  // Gather first, then weigh in a straight loop over the 36 samples (vectorisable: this
-  // runs once per pixel update, 36 exponentials).
+  // Offsets first, then the gather, then the weights, each a straight loop over the 36
+  // samples (this runs once per pixel update, 36 exponentials).
   float values[kWindowSamples], exponent[kWindowSamples], inside[kWindowSamples];
-  const float* chroma_centre = ref.chroma ? ref.chroma + 2 * (static_cast<long>(v) * ref.width + u) : nullptr;
-  for (int j = 0; j < kWindowSamplesPerAxis; ++j) {
-    const int dy = WindowOffset(win, j);
-    const int y = v + dy;
-    for (int i = 0; i < kWindowSamplesPerAxis; ++i) {
-      const int dx = WindowOffset(win, i);
-      const int x = u + dx;
-      // Samples outside the reference image take no part (weight 0) instead of repeating
-      // the border, which would compare invented texture with the source's real one.
-      const bool in = x >= 0 && y >= 0 && x < ref.width && y < ref.height;
-      const float value = in ? ref.data[static_cast<long>(y) * ref.width + x] - centre : 0.f;
-      const int k = j * kWindowSamplesPerAxis + i;
-      patch->offset_x[k] = static_cast<float>(dx);
-      patch->offset_y[k] = static_cast<float>(dy);
-      values[k] = value;
-      inside[k] = in ? 1.f : 0.f;
-      float colour = fabsf(value);
-      if (chroma_centre && in) {
-        const float* chroma = ref.chroma + 2 * (static_cast<long>(y) * ref.width + x);
-        colour += fabsf(chroma[0] - chroma_centre[0]) + fabsf(chroma[1] - chroma_centre[1]);
-      }
-      exponent[k] = sqrtf(static_cast<float>(dx * dx + dy * dy)) * inv_spatial + colour * inv_color;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    patch->offset_x[k] = static_cast<float>(WindowOffset(win, k % kWindowSamplesPerAxis));
+    patch->offset_y[k] = static_cast<float>(WindowOffset(win, k / kWindowSamplesPerAxis));
+  }
+  const int lo = WindowOffset(win, 0), hi = WindowOffset(win, kWindowSamplesPerAxis - 1);
+  const bool interior = u + lo >= 0 && v + lo >= 0 && u + hi < ref.width && v + hi < ref.height;
+  const long centre_index = static_cast<long>(v) * ref.width + u;
+  for (int k = 0; k < kWindowSamples; ++k) {
+    const int x = u + static_cast<int>(patch->offset_x[k]);
+    const int y = v + static_cast<int>(patch->offset_y[k]);
+    // Samples outside the reference image take no part (weight 0) instead of repeating
+    // the border, which would compare invented texture with the source's real one.
+    const bool in = interior || (x >= 0 && y >= 0 && x < ref.width && y < ref.height);
+    const long index = in ? static_cast<long>(y) * ref.width + x : centre_index;
+    const float value = ref.data[index] - centre;
+    values[k] = value;
+    inside[k] = in ? 1.f : 0.f;
+    float colour = fabsf(value);
+    if (ref.chroma) {
+      const float* chroma = ref.chroma + 2 * index;
+      const float* chroma_centre = ref.chroma + 2 * centre_index;
+      colour += fabsf(chroma[0] - chroma_centre[0]) + fabsf(chroma[1] - chroma_centre[1]);
     }
+    exponent[k] = win.distance[k] * inv_spatial + colour * inv_color;
   }
   for (int k = 0; k < kWindowSamples; ++k) patch->weight[k] = inside[k] * ExpNeg(exponent[k]);
   float wsum = 0.f;

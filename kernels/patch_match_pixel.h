@@ -442,6 +442,8 @@ MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
                                                   const PixelState& state, int u, int v,
                                                   Vec3 ray, Candidates* cand) {
   const int W = params.ref_camera.width, H = params.ref_camera.height;
+  const int reach = params.pattern.reach;
+  const bool interior = u >= reach && v >= reach && u + reach < W && v + reach < H;
   int best_of[kNumRegions];
   for (int r = 0; r < kNumRegions; ++r) {
     int best = -1;
@@ -449,7 +451,7 @@ MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
     for (int i = 0; i < params.pattern.num_samples[r]; ++i) {
       const int x = u + params.pattern.du[r][i];
       const int y = v + params.pattern.dv[r][i];
-      if (x < 0 || y < 0 || x >= W || y >= H) continue;
+      if (!interior && (x < 0 || y < 0 || x >= W || y >= H)) continue;
       const int q = y * W + x;
       const float c = state.cost[q];
       if (best < 0 || c < best_cost) {

@@ -20,6 +20,7 @@ struct PropagationPattern {
   int num_samples[kNumRegions] = {0};
   int du[kNumRegions][kMaxRegionSamples] = {{0}};
   int dv[kNumRegions][kMaxRegionSamples] = {{0}};
+  int reach = 0;  // largest |du| or |dv|: pixels this far inside the image need no bounds checks
 };
 
 // Region order: 0 up-V, 1 down-V, 2 left-V, 3 right-V, 4 up line, 5 down line, 6 left line,
@@ -65,6 +66,11 @@ MPMVS_HD inline PropagationPattern MakePropagationPattern(PatternKind kind) {
       ++n;
     }
     p.num_samples[4 + r] = n;
+  }
+  for (int r = 0; r < kNumRegions; ++r) {
+    for (int i = 0; i < p.num_samples[r]; ++i) {
+      p.reach = MaxI(p.reach, MaxI(p.du[r][i] < 0 ? -p.du[r][i] : p.du[r][i], p.dv[r][i] < 0 ? -p.dv[r][i] : p.dv[r][i]));
+    }
   }
   return p;
 }

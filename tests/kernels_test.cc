@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <iostream>
 #include <random>
 #include <set>
@@ -492,6 +493,18 @@ TEST(KernelNcc, ExpNegMatchesExpf) {
   }
   EXPECT_LT(worst, 1e-5);
   EXPECT_EQ(ExpNeg(0.f), 1.f);
+  // The clamp of the exponent to [0, 125] (on the bit pattern): below 0 is e^0, above
+  // 125 ln 2 and NaN of either sign are e^-125 ln 2, never an overflowing int conversion.
+  const float floor = ExpNeg(100.f);
+  EXPECT_GT(floor, 0.f);
+  EXPECT_LT(floor, 1e-37f);
+  EXPECT_EQ(ExpNeg(-0.f), 1.f);
+  EXPECT_EQ(ExpNeg(-3.f), 1.f);
+  EXPECT_EQ(ExpNeg(-std::numeric_limits<float>::infinity()), 1.f);
+  EXPECT_EQ(ExpNeg(1e30f), floor);
+  EXPECT_EQ(ExpNeg(std::numeric_limits<float>::infinity()), floor);
+  EXPECT_EQ(ExpNeg(std::numeric_limits<float>::quiet_NaN()), floor);
+  EXPECT_EQ(ExpNeg(-std::numeric_limits<float>::quiet_NaN()), floor);
 }
 
 }  // namespace
