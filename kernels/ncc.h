@@ -111,7 +111,8 @@ struct RefPatch {
 // with_texture: also fit the shading ramp (RefPatch::texture), which only prior passes use.
 MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const WindowSpec& win,
                                      RefPatch* patch, bool with_texture = false) {
-  const float centre = ref.data[static_cast<long>(v) * ref.width + u];
+  const long centre_index = static_cast<long>(v) * ref.width + u;
+  const float centre = ref.data[centre_index];
   const float inv_spatial = 1.f / (2.f * kSigmaSpatial * kSigmaSpatial);
   const float inv_color = 1.f / (2.f * kSigmaColor * kSigmaColor);
   // Offsets first, then the gather, then the weights, each a straight loop over the 36
@@ -123,7 +124,6 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   }
   const int lo = WindowOffset(win, 0), hi = WindowOffset(win, kWindowSamplesPerAxis - 1);
   const bool interior = u + lo >= 0 && v + lo >= 0 && u + hi < ref.width && v + hi < ref.height;
-  const long centre_index = static_cast<long>(v) * ref.width + u;
   for (int k = 0; k < kWindowSamples; ++k) {
     const int x = u + static_cast<int>(patch->offset_x[k]);
     const int y = v + static_cast<int>(patch->offset_y[k]);
