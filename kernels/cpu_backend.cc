@@ -204,6 +204,7 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
   PatchMatchSchedule schedule;
   schedule.geometric = geometric;
   PassParams params = MakePassParams(problem, schedule, sources.data());
+  params.window = WindowForScale(0);  // once, not per pixel and view (36 square roots)
   PixelState state;
   state.plane = result->plane.data();
   state.photo_cost = result->photo_cost.data();

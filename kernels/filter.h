@@ -1,6 +1,7 @@
 #pragma once
 // COLMAP-style output filter (--PatchMatchStereo.filter): a pixel is kept when at least
-// min_num_consistent source views see its plane photo-consistently (NCC >= min_ncc), under
+// min_num_consistent source views see its plane photo-consistently (NCC >= min_ncc, in
+// params.window: the caller sets the finest window, WindowForScale(0)), under
 // a triangulation angle >= min_triangulation_angle and, in geometric stages, with a
 // forward-backward reprojection error <= geom_max_error.
 #include <math.h>
@@ -26,7 +27,7 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
   const float depth = PlaneDepth(plane, ray);
   if (!(state.photo_cost[idx] < kInvalidCost) || !DepthInRange(params, depth)) return false;
   RefPatch patch;
-  ComputeRefPatch(params.ref_image, u, v, WindowForScale(0), &patch);
+  ComputeRefPatch(params.ref_image, u, v, params.window, &patch);
   const Vec3 m = HomographyPlaneVector(params.ref_camera, plane);
   const Vec3 X = depth * ray;
   const float cos_min = cosf(filter.min_triangulation_angle_deg * kPi / 180.f);
@@ -35,7 +36,7 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
     const SourceView& src = params.sources[s];
     float H[9];
     PlaneHomography(src.rel, m, H);
-    const float cost = NccCost<Ncc>(patch, src.image, H, u, v, WindowForScale(0));
+    const float cost = NccCost<Ncc>(patch, src.image, H, u, v, params.window);
     if (1.f - cost < filter.min_ncc) continue;
     // Source centre in the reference frame is tinv; the angle at X between both rays.
     const Vec3 to_ref = Normalize(-X);

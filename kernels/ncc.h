@@ -125,8 +125,8 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   const int lo = WindowOffset(win, 0), hi = WindowOffset(win, kWindowSamplesPerAxis - 1);
   const bool interior = u + lo >= 0 && v + lo >= 0 && u + hi < ref.width && v + hi < ref.height;
   for (int k = 0; k < kWindowSamples; ++k) {
-    const int x = u + static_cast<int>(patch->offset_x[k]);
-    const int y = v + static_cast<int>(patch->offset_y[k]);
+    const int x = u + WindowOffset(win, k % kWindowSamplesPerAxis);
+    const int y = v + WindowOffset(win, k / kWindowSamplesPerAxis);
     // Samples outside the reference image take no part (weight 0) instead of repeating
     // the border, which would compare invented texture with the source's real one.
     const bool in = interior || (x >= 0 && y >= 0 && x < ref.width && y < ref.height);
