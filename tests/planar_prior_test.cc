@@ -192,5 +192,85 @@ TEST(PlanarPrior, WallTrianglesTouchingAnObjectInFrontTakeTheWallPlane) {
   EXPECT_LT(right_paper, 0.9 * total);  // the paper's planes slope towards the object
 }
 
+// A source view's vertex lands where its 3-D point projects in the reference, with the
+// reference's depth and the normal rotated into the reference frame; points behind the
+// reference are dropped.
+TEST(PlanarPrior, SourceVerticesTransferToTheReferenceCamera) {
+  const kernels::Camera ref = MakeCamera(80, 60);
+  kernels::Camera src = MakeCamera(80, 60);
+  const float a = 0.2f;  // source rotated about the y axis, and shifted
+  const float R[9] = {std::cos(a), 0.f, -std::sin(a), 0.f, 1.f, 0.f, std::sin(a), 0.f, std::cos(a)};
+  for (int k = 0; k < 9; ++k) src.R[k] = R[k];
+  src.t[0] = -0.3f;
+  src.t[2] = 0.1f;
+  std::vector<PlanarPriorVertex> vertices = {{10, 20, 4.f, kernels::Normalize(kernels::Vec3{0.f, 0.f, -1.f})},
+                                             {70, 5, 2.5f, kernels::Normalize(kernels::Vec3{0.3f, -0.1f, -1.f})}};
+  const std::vector<PlanarPriorVertex> seen = TransferPriorVertices(src, ref, vertices);
+  ASSERT_EQ(seen.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    // World point (= reference camera point): R^T (X_src - t).
+    const kernels::Vec3 Xs = vertices[i].depth * kernels::PixelRay(src, float(vertices[i].u), float(vertices[i].v));
+    const kernels::Vec3 d{Xs.x - src.t[0], Xs.y - src.t[1], Xs.z - src.t[2]};
+    const kernels::Vec3 X{R[0] * d.x + R[3] * d.y + R[6] * d.z, R[1] * d.x + R[4] * d.y + R[7] * d.z,
+                          R[2] * d.x + R[5] * d.y + R[8] * d.z};
+    const kernels::Vec3 n = vertices[i].normal;
+    const kernels::Vec3 nr{R[0] * n.x + R[3] * n.y + R[6] * n.z, R[1] * n.x + R[4] * n.y + R[7] * n.z,
+                           R[2] * n.x + R[5] * n.y + R[8] * n.z};
+    EXPECT_EQ(seen[i].u, std::lround(ref.fx * X.x / X.z + ref.cx));
+    EXPECT_EQ(seen[i].v, std::lround(ref.fy * X.y / X.z + ref.cy));
+    EXPECT_NEAR(seen[i].depth, X.z, 1e-5f);
+    EXPECT_GT(kernels::Dot(seen[i].normal, nr), 0.99999f);
+  }
+  kernels::Camera behind = ref;
+  behind.t[2] = -10.f;  // every point lies behind this camera
+  EXPECT_TRUE(TransferPriorVertices(src, behind, vertices).empty());
+}
+
+// A ceiling whose only vertices in the reference are the crease with a wall (the ceiling
+// itself is plain): its pixels lie outside the hull of the reference's own vertices. The
+// source views' vertices above the image span it from the crease, with the ceiling's plane.
+TEST(PlanarPrior, SourceVerticesOutsideTheImageSpanACeiling) {
+  const int W = 80, H = 60;
+  const kernels::Camera cam = MakeCamera(W, H);  // f 100, centre (40, 30)
+  // Wall z = 5 below row 20; ceiling y = -0.5 above it (the crease is row 20 on the wall).
+  auto ceiling = [](float v) { return 50.f / (30.f - v); };
+  std::vector<float> depth(W * H, 5.f), photo(W * H, 1.f), geo(W * H, 0.f);
+  for (int v = 0; v < 20; ++v) {
+    for (int u = 0; u < W; ++u) depth[v * W + u] = 0.8f * ceiling(float(v));  // plain: wrong, no vertex
+  }
+  for (int v = 20; v < H; v += 5) {
+    for (int u = 2; u < W; u += 5) photo[v * W + u] = 0.05f;
+  }
+  std::vector<PlanarPriorVertex> outside;
+  for (int v : {-28, -18, -8}) {
+    for (int u = -38; u < W + 38; u += 5) outside.push_back({u, v, ceiling(float(v))});
+  }
+  const size_t kept = outside.size() + 1;
+  outside.push_back({-33, -18, 1.f});   // a second vertex in an outside cell: kept (3 per cell)
+  outside.push_back({40, 10, 3.f});     // inside the image: ignored
+  outside.push_back({40, -60, 0.7f});   // farther than half the image from its border: ignored
+  outside.push_back({20, -5, 30.f});    // outside the depth range: ignored
+  PlanarPriorOptions options;
+  const PlanarPriorModel own = BuildPlanarPrior(cam, depth, photo, geo, 0.5f, 20.f, options);
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 0.5f, 20.f, options, nullptr, nullptr, &outside);
+  EXPECT_EQ(model.num_outside_vertices, static_cast<int>(kept));
+  EXPECT_EQ(model.vertices.size(), own.vertices.size() + kept);
+  int labelled_own = 0, right = 0, total = 0;
+  for (int v = 0; v < 19; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      ++total;
+      labelled_own += own.label[i];
+      if (!model.label[i]) continue;
+      const float z = kernels::PlaneDepth({{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]},
+                                           model.plane[4 * i + 3]},
+                                          kernels::PixelRay(cam, float(u), float(v)));
+      right += std::abs(z - ceiling(float(v))) < 0.005f * ceiling(float(v));
+    }
+  }
+  EXPECT_EQ(labelled_own, 0);  // the reference's own vertices do not reach above row 20
+  EXPECT_GT(right, 0.9 * total);
+}
+
 }  // namespace
 }  // namespace mpmvs

@@ -51,6 +51,9 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_points_per_cell", &m->prior_points_per_cell);
   parser->Add(q + "prior_plane_vote", &m->prior_plane_vote,
               "each prior triangle takes the plane its neighbouring vertices vote for; 0 = its own plane (paper)");
+  parser->Add(q + "prior_source_vertices", &m->prior_source_vertices,
+              "gp: source views' vertices outside the reference image join its prior triangles; 0 = own vertices "
+              "only (paper)");
   parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");

@@ -83,6 +83,8 @@ void WriteStagePictures(const DenseWorkspace& workspace, const ReferenceProblem&
     // The picture has a title band above the map: find the map's top-left by its size.
     const int top = picture.height - result.height;
     for (const PlanarPriorVertex& vertex : prior->vertices) {
+      // Source views' vertices may lie outside the image, and the picture's title band.
+      if (vertex.u < 0 || vertex.v < 0 || vertex.u >= result.width || vertex.v >= result.height) continue;
       FillRect(&picture, vertex.u, top + vertex.v, 1, 1, RgbColor{255, 255, 255});
     }
     WriteRgbPng(base + ".prior_model.png", picture);

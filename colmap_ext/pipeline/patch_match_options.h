@@ -49,6 +49,9 @@ struct MpMvsOptions {
   // Each prior triangle takes the plane that the vertices around it vote for, among its
   // neighbours' planes and its vertices' tangent planes (false: its own plane, the paper).
   bool prior_plane_vote = true;
+  // gp: the source views' vertices outside the reference image join its prior triangulation
+  // (false: the reference's own vertices only, the paper).
+  bool prior_source_vertices = true;
   // ACMP's beta: the weight of the photometric cost in the prior run's score, exp(-C^2/beta).
   // 0.18 is ACMP's; a large beta lets the prior decide wherever the views cannot.
   double prior_beta = 8;

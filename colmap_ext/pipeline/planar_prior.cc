@@ -106,7 +106,59 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
   return chosen;
 }
 
+// Appends the vertices of outside that lie outside the W x H image, within half its size of
+// its border, with depth in [depth_min, depth_max]: at most per_cell in each cell of the
+// selection grid extended over that margin, first come first kept.
+int AddOutsideVertices(int W, int H, float depth_min, float depth_max, const PlanarPriorOptions& options,
+                       const std::vector<PlanarPriorVertex>& outside, std::vector<PlanarPriorVertex>* vertices) {
+  const int cs = options.cell_size;
+  const int margin_x = (W / 2 + cs - 1) / cs, margin_y = (H / 2 + cs - 1) / cs;  // cells
+  const int grid_x = (W + cs - 1) / cs + 2 * margin_x, grid_y = (H + cs - 1) / cs + 2 * margin_y;
+  std::vector<int> count(static_cast<size_t>(grid_x) * grid_y, 0);
+  int added = 0;
+  for (const PlanarPriorVertex& v : outside) {
+    if (v.u >= 0 && v.v >= 0 && v.u < W && v.v < H) continue;
+    if (!(v.depth >= depth_min && v.depth <= depth_max)) continue;
+    const int cx = (v.u >= 0 ? v.u / cs : -((-v.u + cs - 1) / cs)) + margin_x;
+    const int cy = (v.v >= 0 ? v.v / cs : -((-v.v + cs - 1) / cs)) + margin_y;
+    if (cx < 0 || cy < 0 || cx >= grid_x || cy >= grid_y) continue;
+    int& c = count[static_cast<size_t>(cy) * grid_x + cx];
+    if (c >= options.points_per_cell) continue;
+    ++c;
+    vertices->push_back(v);
+    ++added;
+  }
+  return added;
+}
+
 }  // namespace
+
+std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& source,
+                                                     const kernels::Camera& reference,
+                                                     const std::vector<PlanarPriorVertex>& vertices) {
+  // rel maps reference-camera points to the source camera; Rinv, tinv map them back.
+  const kernels::RelativePose rel = kernels::ComputeRelativePose(reference, source);
+  auto rotate = [&rel](const Vec3& x) {
+    return Vec3{rel.Rinv[0] * x.x + rel.Rinv[1] * x.y + rel.Rinv[2] * x.z,
+                rel.Rinv[3] * x.x + rel.Rinv[4] * x.y + rel.Rinv[5] * x.z,
+                rel.Rinv[6] * x.x + rel.Rinv[7] * x.y + rel.Rinv[8] * x.z};
+  };
+  const Vec3 t{rel.tinv[0], rel.tinv[1], rel.tinv[2]};
+  // Pixels far beyond any margin a caller keeps would overflow int.
+  const float limit = 8.f * static_cast<float>(std::max(reference.width, reference.height));
+  std::vector<PlanarPriorVertex> out;
+  out.reserve(vertices.size());
+  for (const PlanarPriorVertex& v : vertices) {
+    const Vec3 X = rotate(VertexPoint(source, v)) + t;
+    float u, w;
+    if (!kernels::ProjectCameraPoint(reference, X, &u, &w)) continue;
+    if (!(std::abs(u) < limit && std::abs(w) < limit)) continue;
+    PlanarPriorVertex moved{static_cast<int>(std::lround(u)), static_cast<int>(std::lround(w)), X.z};
+    if (kernels::Norm(v.normal) > 0.f) moved.normal = rotate(v.normal);
+    out.push_back(moved);
+  }
+  return out;
+}
 
 std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vector<float>& depth,
                                                    const std::vector<float>& photo_cost,
@@ -155,12 +207,17 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes,
-                                  const std::vector<uint8_t>* plain) {
+                                  const std::vector<uint8_t>* plain,
+                                  const std::vector<PlanarPriorVertex>* outside_vertices) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
   model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, plain);
+  if (outside_vertices) {
+    model.num_outside_vertices =
+        AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);
+  }
   if (model.vertices.size() < 3) return model;
 
   std::vector<std::pair<Kernel::Point_2, int>> points;

@@ -20,6 +20,13 @@ struct PlanarPriorOptions {
   // Each triangle takes the plane its neighbourhood of vertices votes for (planar_prior.cc,
   // VotedPlanes) instead of its own plane through its three vertices (false: the paper).
   bool plane_vote = true;
+  // Geometric selection: vertices of the source views that fall outside the reference image
+  // join its triangulation (BuildPlanarPrior's outside_vertices), so that a surface whose
+  // other edge the reference does not see is spanned from edge to edge.
+  bool source_vertices = true;
+  // A source vertex's photometric cost must be below this (ACMP's bar, stricter than
+  // max_photo_cost): nothing in the reference image can check a point outside it.
+  float source_max_photo_cost = 0.1f;
 };
 
 struct PlanarPriorVertex {
@@ -32,6 +39,7 @@ struct PlanarPriorModel {
   std::vector<PlanarPriorVertex> vertices;
   std::vector<int> triangles;  // 3 vertex indices per kept triangle
   int num_voted_triangles = 0;  // triangles whose vote chose another plane than their own
+  int num_outside_vertices = 0;  // vertices from outside_vertices (they come last)
   std::vector<float> plane;    // 4 per pixel (nx, ny, nz, d), reference camera frame
   std::vector<uint8_t> label;  // 1 where a triangle covers the pixel
 };
@@ -39,13 +47,23 @@ struct PlanarPriorModel {
 // depth (W*H, 0 = none), photo_cost and geo_error (W*H) describe the reference image's
 // current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
 // label. plain (W*H, optional): 1 on plain windows (kernels::PlainWindow), which are never
-// vertices.
+// vertices. outside_vertices (optional): vertices of other views in this camera
+// (TransferPriorVertices); those outside the image, within half its size of its border and
+// inside [depth_min, depth_max], join the selected ones, at most points_per_cell per cell.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes = nullptr,
-                                  const std::vector<uint8_t>* plain = nullptr);
+                                  const std::vector<uint8_t>* plain = nullptr,
+                                  const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
+
+// Vertices of a source view seen from the reference camera: pixel (rounded) and depth in
+// the reference, normal rotated into its frame. Points behind the reference are dropped;
+// the others are kept wherever they project, inside the image or not.
+std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& source,
+                                                     const kernels::Camera& reference,
+                                                     const std::vector<PlanarPriorVertex>& vertices);
 
 // The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
 std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);

@@ -16,6 +16,7 @@ PlanarPriorOptions MakePriorOptions(const MpMvsOptions& o) {
   po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
   po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
   po.plane_vote = o.prior_plane_vote;
+  po.source_vertices = o.prior_source_vertices;
   return po;
 }
 

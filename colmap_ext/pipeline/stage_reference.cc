@@ -1,6 +1,7 @@
 #include "colmap_ext/pipeline/stage_reference.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "colmap_ext/pipeline/image_noise.h"
 #include "colmap_ext/pipeline/kernel_camera.h"
@@ -44,8 +45,41 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
   }
 }
 
+// The sources' own prior vertices from their results of the input stage, seen from the
+// reference (BuildPlanarPrior keeps those outside its image). They pass a stricter test than
+// the reference's own, as the reference cannot check them: photometric cost below
+// source_max_photo_cost and, with the texture-adaptive prior, a window of the finest scale
+// that is not plain.
+std::vector<PlanarPriorVertex> SourceViewVertices(const StagePlan& stage, const std::string& input_stage,
+                                                  const PlanarPriorOptions& options, bool adaptive,
+                                                  StageStore* store, const StageReference& ref) {
+  const kernels::PatchMatchProblem& problem = ref.pm;
+  PlanarPriorOptions source_options = options;
+  source_options.max_photo_cost = std::min(options.max_photo_cost, options.source_max_photo_cost);
+  std::vector<PlanarPriorVertex> vertices;
+  for (size_t k = 0; k < problem.sources.size(); ++k) {
+    const int src = static_cast<int>(problem.sources[k].image_id);
+    if (!store->HasState(src, input_stage)) continue;
+    const kernels::PatchMatchResult result = store->ReadState(src, input_stage);
+    const kernels::Camera& camera = problem.sources[k].camera;
+    const std::vector<float> depth = ResultDepth(result, camera, 0.f, std::numeric_limits<float>::max());
+    std::vector<uint8_t> plain;
+    if (adaptive) {
+      // ref.images holds the reference first, then the sources in problem.sources' order.
+      plain = kernels::PlainWindowMaskCpu(problem.sources[k].image, kernels::WindowForScale(0),
+                                          EstimateNoiseVariance(*ref.images[k + 1]), stage.schedule.num_threads);
+    }
+    const std::vector<PlanarPriorVertex> own =
+        SelectPriorVertices(camera.width, camera.height, depth, result.photo_cost, result.geo_error, source_options,
+                            &result.plane, plain.empty() ? nullptr : &plain);
+    const std::vector<PlanarPriorVertex> seen = TransferPriorVertices(camera, problem.ref_camera, own);
+    vertices.insert(vertices.end(), seen.begin(), seen.end());
+  }
+  return vertices;
+}
+
 void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWorkspace& workspace,
-                    StageReference* ref) {
+                    const std::string& input_stage, StageStore* store, StageReference* ref) {
   const ReferenceProblem& p = *ref->problem;
   PlanarPriorOptions options = plan.prior;
   options.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
@@ -55,7 +89,8 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   // With the texture-adaptive prior, pixels whose grey window of the middle mPM scale is
   // plain are no vertices (kernels/DESIGN.md 17).
   std::vector<uint8_t> plain;
-  if (kernels::TextureAdaptivePrior(problem.ref_noise_variance, stage.schedule.prior_beta)) {
+  const bool adaptive = kernels::TextureAdaptivePrior(problem.ref_noise_variance, stage.schedule.prior_beta);
+  if (adaptive) {
     constexpr int kVertexTextureScale = 1;
     const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
     kernels::ImageView grey = problem.ref_image;
@@ -63,15 +98,18 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
     plain = kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(std::min(kVertexTextureScale, coarsest)),
                                         problem.ref_noise_variance, stage.schedule.num_threads);
   }
+  std::vector<PlanarPriorVertex> source_vertices;
+  const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
+  if (use_sources) source_vertices = SourceViewVertices(stage, input_stage, options, adaptive, store, *ref);
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
                                 p.depth_min, p.depth_max, options, &ref->input.plane,
-                                plain.empty() ? nullptr : &plain);
+                                plain.empty() ? nullptr : &plain, use_sources ? &source_vertices : nullptr);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
   LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
-          " vertices, " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
+          " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image), " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
           std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
 }
@@ -122,7 +160,7 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
     problem.init_plane = ref->input.plane.data();
     problem.init_cost = ref->input.cost.data();
   }
-  if (stage.kind == StageKind::kPlanarPrior) AddPlanarPrior(stage, plan, workspace, ref.get());
+  if (stage.kind == StageKind::kPlanarPrior) AddPlanarPrior(stage, plan, workspace, input_stage, store, ref.get());
   return ref;
 }
 
