@@ -138,23 +138,18 @@ std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& sour
                                                      const std::vector<PlanarPriorVertex>& vertices) {
   // rel maps reference-camera points to the source camera; Rinv, tinv map them back.
   const kernels::RelativePose rel = kernels::ComputeRelativePose(reference, source);
-  auto rotate = [&rel](const Vec3& x) {
-    return Vec3{rel.Rinv[0] * x.x + rel.Rinv[1] * x.y + rel.Rinv[2] * x.z,
-                rel.Rinv[3] * x.x + rel.Rinv[4] * x.y + rel.Rinv[5] * x.z,
-                rel.Rinv[6] * x.x + rel.Rinv[7] * x.y + rel.Rinv[8] * x.z};
-  };
   const Vec3 t{rel.tinv[0], rel.tinv[1], rel.tinv[2]};
   // Pixels far beyond any margin a caller keeps would overflow int.
   const float limit = 8.f * static_cast<float>(std::max(reference.width, reference.height));
   std::vector<PlanarPriorVertex> out;
   out.reserve(vertices.size());
   for (const PlanarPriorVertex& v : vertices) {
-    const Vec3 X = rotate(VertexPoint(source, v)) + t;
+    const Vec3 X = kernels::MatVec(rel.Rinv, VertexPoint(source, v)) + t;
     float u, w;
     if (!kernels::ProjectCameraPoint(reference, X, &u, &w)) continue;
     if (!(std::abs(u) < limit && std::abs(w) < limit)) continue;
     PlanarPriorVertex moved{static_cast<int>(std::lround(u)), static_cast<int>(std::lround(w)), X.z};
-    if (kernels::Norm(v.normal) > 0.f) moved.normal = rotate(v.normal);
+    if (kernels::Norm(v.normal) > 0.f) moved.normal = kernels::MatVec(rel.Rinv, v.normal);
     out.push_back(moved);
   }
   return out;
