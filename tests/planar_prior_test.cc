@@ -192,6 +192,43 @@ TEST(PlanarPrior, WallTrianglesTouchingAnObjectInFrontTakeTheWallPlane) {
   EXPECT_LT(right_paper, 0.9 * total);  // the paper's planes slope towards the object
 }
 
+// A plain wall with a few scattered vertices beside a densely textured panel in front of it:
+// the triangles over the wall next to the panel take the wall's plane, although the panel's
+// vertices around them outnumber the wall's (each vote weighs the vertex's spacing).
+TEST(PlanarPrior, DenseVerticesOfAnObjectDoNotOutvoteThePlainWallBesideIt) {
+  const int W = 120, H = 60;
+  const kernels::Camera cam = MakeCamera(W, H);
+  // Wall: fronto-parallel at depth 4, a vertex about every 16 px (u < 56). Panel: columns
+  // 70 and right, 10 % nearer, vertices 2 px apart.
+  std::vector<float> depth(W * H), photo(W * H, 1.f), geo(W * H, 0.f);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) depth[v * W + u] = u >= 70 ? 3.6f : 4.f;
+  }
+  for (int v = 0; v < H; v += 2) {
+    for (int u = 70; u < W; u += 2) photo[v * W + u] = 0.05f;
+  }
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) photo[(2 + 16 * j + (5 * i) % 7) * W + 3 + 16 * i + (7 * j) % 9] = 0.05f;
+  }
+  PlanarPriorOptions options;
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options);
+  // The wall's pixels between its vertices and the panel (u 56..67), inside triangles that
+  // join the two, within 0.5 % of the wall.
+  int right = 0, total = 0;
+  for (int v = 10; v < H - 10; ++v) {
+    for (int u = 56; u < 68; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      if (!model.label[i]) continue;
+      ++total;
+      const float z = kernels::PlaneDepth({{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]},
+                                           model.plane[4 * i + 3]}, kernels::PixelRay(cam, float(u), float(v)));
+      right += std::abs(z - 4.f) < 0.02f;
+    }
+  }
+  ASSERT_GT(total, 40 * 12 * 9 / 10);
+  EXPECT_GT(right, 0.9 * total);
+}
+
 // A source view's vertex lands where its 3-D point projects in the reference, with the
 // reference's depth and the normal rotated into the reference frame; points behind the
 // reference are dropped.

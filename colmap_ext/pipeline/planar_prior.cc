@@ -36,7 +36,10 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
 // vertices votes for the candidates on which it lies (depth within 1 %); the most votes
 // win, a tie keeps the earlier candidate. A wall triangle whose corners sit on an object
 // in front of the wall, or whose three vertices lie on three surfaces, takes the plane
-// that its neighbourhood agrees on instead of a plane through empty space.
+// that its neighbourhood agrees on instead of a plane through empty space. A vertex's vote
+// weighs the square root of its share of the triangles' area, i.e. its spacing in pixels:
+// a textured object, dense with vertices, does not outvote by number alone the few
+// vertices that span the plain wall beside it (kernels/DESIGN.md 20).
 std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                         const std::vector<std::array<int, 3>>& faces,
                                         const std::vector<kernels::Plane>& own, int* num_changed) {
@@ -48,14 +51,23 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
     points[i] = vertices[i].depth * rays[i];
   }
   std::vector<std::vector<int>> ring(nv), incident(nv);
+  std::vector<float> area(nv, 0.f);  // a third of the incident triangles' area, in pixels
   for (size_t f = 0; f < faces.size(); ++f) {
+    const PlanarPriorVertex& a = vertices[faces[f][0]];
+    const PlanarPriorVertex& b = vertices[faces[f][1]];
+    const PlanarPriorVertex& c = vertices[faces[f][2]];
+    const float third =
+        std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
     for (int k = 0; k < 3; ++k) {
+      area[faces[f][k]] += third;
       incident[faces[f][k]].push_back(static_cast<int>(f));
       ring[faces[f][k]].push_back(faces[f][(k + 1) % 3]);
       ring[faces[f][k]].push_back(faces[f][(k + 2) % 3]);
     }
   }
+  std::vector<float> weight(nv);
   for (size_t i = 0; i < nv; ++i) {
+    weight[i] = std::sqrt(area[i]);
     ring[i].push_back(static_cast<int>(i));
     std::sort(ring[i].begin(), ring[i].end());
     ring[i].erase(std::unique(ring[i].begin(), ring[i].end()), ring[i].end());
@@ -88,12 +100,13 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
         candidates.push_back(own[g]);
       }
     }
-    int best = 0, best_votes = -1;
+    int best = 0;
+    float best_votes = -1.f;
     for (size_t c = 0; c < candidates.size(); ++c) {
-      int votes = 0;
+      float votes = 0.f;
       for (int j : voters) {
         const float z = kernels::PlaneDepth(candidates[c], rays[j]);
-        votes += std::abs(z - vertices[j].depth) < kTolerance * vertices[j].depth;
+        if (std::abs(z - vertices[j].depth) < kTolerance * vertices[j].depth) votes += weight[j];
       }
       if (votes > best_votes) {
         best = static_cast<int>(c);
