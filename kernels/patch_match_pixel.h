@@ -247,6 +247,40 @@ MPMVS_HD inline bool PixelPriorActive(const PassParams& params, const RefPatch& 
   return !TextureAdaptivePrior(params) || PlainWindow(patch, params.noise_variance);
 }
 
+// Whether no view can cost any plane at a pixel: its reference window is flat (a saturated
+// or clipped area, such as an over-exposed window pane).
+MPMVS_HD MPMVS_FORCE_INLINE bool RefPatchIsFlat(const RefPatch& patch) {
+  return !(patch.variance >= kMinNccVariance);
+}
+
+// Costs of a flat pixel that takes its prior plane: NCC 0, no evidence either way. Where the
+// views say nothing at all, the planar prior built from the verified vertices around the area
+// is the estimate; later passes keep it, since no view can cost another plane there
+// (kernels/DESIGN.md 21). Never a prior vertex (m_p < 0.2).
+constexpr float kFlatPriorCost = 1.f;
+
+// Fills a flat pixel from its prior plane (prior passes) or keeps an earlier fill (init_cost
+// below kInvalidCost; any later pass). False where neither applies.
+MPMVS_HD inline bool FillFlatPixel(const PassParams& params, const PixelState& state, int idx,
+                                   Vec3 ray, bool have, const Plane& earlier,
+                                   const float* init_cost) {
+  Plane plane;
+  if (params.use_prior && params.prior.label[idx]) {
+    plane = LoadPlane(params.prior.plane, idx);
+  } else if (have && init_cost && init_cost[idx] < kInvalidCost) {
+    plane = earlier;
+  } else {
+    return false;
+  }
+  if (!DepthInRange(params, PlaneDepth(plane, ray))) return false;
+  StorePlane(state.plane, idx, plane);
+  state.cost[idx] = kFlatPriorCost;
+  state.photo_cost[idx] = kFlatPriorCost;
+  state.geo_error[idx] = 0.f;
+  state.view_mask[idx] = 0;
+  return true;
+}
+
 // Whether a pixel's costs include the geometric term: in geometric passes, except where the
 // prior acts. There it takes the term's place: the source maps it would pull towards are
 // the previous pass's, which are wrong on exactly the plain surfaces the prior is for
@@ -356,6 +390,7 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
   }
   RefPatch patch;
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch, PriorNeedsTexture(params));
+  if (RefPatchIsFlat(patch) && FillFlatPixel(params, state, idx, ray, have, plane, init_cost)) return;
   const bool prior_pixel = PixelPriorActive(params, patch, idx);
   const bool geometric = PixelGeometric(params, prior_pixel);
   if (prior_pixel && (!have || !init_cost || init_cost[idx] >= 0.1f)) {
@@ -658,6 +693,8 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
   RefPatch patch;
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch, PriorNeedsTexture(params));
+  // A filled flat pixel keeps its plane: no view can cost another (FillFlatPixel).
+  if (RefPatchIsFlat(patch) && state.photo_cost[idx] < kInvalidCost) return;
 
   Candidates cand;
   GatherCandidates(params, state, u, v, ray, &cand);

@@ -352,6 +352,66 @@ TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
   EXPECT_FALSE(PixelGeometric(params, false));
 }
 
+// A saturated block (an over-exposed window pane) gives no view any cost: without a prior
+// its pixels have no estimate; a prior pass gives them the prior plane, and a later pass
+// started from that result keeps it.
+TEST(KernelPrior, FlatPixelsTakeThePriorPlaneAndKeepIt) {
+  const int W = 64, H = 48;
+  const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const float t0[3] = {0.f, 0.f, 0.f}, t1[3] = {0.2f, 0.f, 0.f};
+  std::vector<float> img = RandomImage(W, H, 5);
+  for (int y = 12; y < 36; ++y) {
+    for (int x = 20; x < 44; ++x) img[y * W + x] = 255.f;
+  }
+  PatchMatchProblem problem;
+  problem.ref_camera = MakeCamera(W, H, 60.f, I, t0);
+  problem.ref_image = ImageView{img.data(), W, H};
+  PatchMatchSource source;
+  source.camera = MakeCamera(W, H, 60.f, I, t1);
+  source.image = problem.ref_image;
+  problem.sources.push_back(source);
+  problem.depth_min = 1.f;
+  problem.depth_max = 10.f;
+  PatchMatchSchedule schedule;
+  schedule.iterations.push_back({0, 0});
+  schedule.num_threads = 1;
+  const int centre = 24 * W + 32;  // its window lies inside the block at every scale used
+  const Vec3 ray = PixelRay(problem.ref_camera, 32.f, 24.f);
+  auto depth_at = [&](const PatchMatchResult& r, int i) {
+    return PlaneDepth(Plane{{r.plane[4 * i], r.plane[4 * i + 1], r.plane[4 * i + 2]}, r.plane[4 * i + 3]}, ray);
+  };
+
+  PatchMatchResult none;
+  RunPatchMatchCpu(problem, schedule, &none);
+  EXPECT_GE(none.photo_cost[centre], kInvalidCost);
+
+  std::vector<float> prior_plane(4 * W * H);
+  for (int i = 0; i < W * H; ++i) {
+    prior_plane[4 * i + 2] = -1.f;  // fronto-parallel at depth 4
+    prior_plane[4 * i + 3] = 4.f;
+  }
+  const std::vector<uint8_t> label(W * H, 1);
+  problem.prior_plane = prior_plane.data();
+  problem.prior_label = label.data();
+  schedule.use_prior = true;
+  PatchMatchResult prior;
+  RunPatchMatchCpu(problem, schedule, &prior);
+  EXPECT_EQ(prior.photo_cost[centre], kFlatPriorCost);
+  EXPECT_FLOAT_EQ(depth_at(prior, centre), 4.f);
+
+  // A pass without the prior, started from the prior pass's result, keeps the plane; started
+  // from scratch, it has none.
+  problem.prior_plane = nullptr;
+  problem.prior_label = nullptr;
+  schedule.use_prior = false;
+  problem.init_plane = prior.plane.data();
+  problem.init_cost = prior.cost.data();
+  PatchMatchResult kept;
+  RunPatchMatchCpu(problem, schedule, &kept);
+  EXPECT_EQ(kept.photo_cost[centre], kFlatPriorCost);
+  EXPECT_FLOAT_EQ(depth_at(kept, centre), 4.f);
+}
+
 // Plain windows (no vertices of the planar prior, prior acts) are those whose texture after
 // removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
 TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
