@@ -1,6 +1,7 @@
 // Unit tests of the shared per-pixel math (kernels/*.h) as the CPU backend runs it.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <iostream>
@@ -74,6 +75,26 @@ std::vector<float> RandomImage(int w, int h, unsigned seed) {
   std::vector<float> img(static_cast<size_t>(w) * h);
   for (float& x : img) x = dist(rng);
   return img;
+}
+
+// A reference camera at the origin and one source per offset (no rotation), all seeing img,
+// with depths in [1, 10].
+PatchMatchProblem ShiftedSourcesProblem(const std::vector<float>& img, int w, int h, float f,
+                                        const std::vector<std::array<float, 3>>& offsets) {
+  const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const float t0[3] = {0.f, 0.f, 0.f};
+  PatchMatchProblem problem;
+  problem.ref_camera = MakeCamera(w, h, f, I, t0);
+  problem.ref_image = ImageView{img.data(), w, h};
+  for (const std::array<float, 3>& t : offsets) {
+    PatchMatchSource source;
+    source.camera = MakeCamera(w, h, f, I, t.data());
+    source.image = problem.ref_image;
+    problem.sources.push_back(source);
+  }
+  problem.depth_min = 1.f;
+  problem.depth_max = 10.f;
+  return problem;
 }
 
 // A random texture left of x = W / 2 and, right of it, wall(x, y) plus Gaussian noise of
@@ -357,21 +378,11 @@ TEST(KernelPrior, ActsOnPlainWindowsOnlyAndThereReplacesTheGeometricTerm) {
 // started from that result keeps it.
 TEST(KernelPrior, FlatPixelsTakeThePriorPlaneAndKeepIt) {
   const int W = 64, H = 48;
-  const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  const float t0[3] = {0.f, 0.f, 0.f}, t1[3] = {0.2f, 0.f, 0.f};
   std::vector<float> img = RandomImage(W, H, 5);
   for (int y = 12; y < 36; ++y) {
     for (int x = 20; x < 44; ++x) img[y * W + x] = 255.f;
   }
-  PatchMatchProblem problem;
-  problem.ref_camera = MakeCamera(W, H, 60.f, I, t0);
-  problem.ref_image = ImageView{img.data(), W, H};
-  PatchMatchSource source;
-  source.camera = MakeCamera(W, H, 60.f, I, t1);
-  source.image = problem.ref_image;
-  problem.sources.push_back(source);
-  problem.depth_min = 1.f;
-  problem.depth_max = 10.f;
+  PatchMatchProblem problem = ShiftedSourcesProblem(img, W, H, 60.f, {{0.2f, 0.f, 0.f}});
   PatchMatchSchedule schedule;
   schedule.iterations.push_back({0, 0});
   schedule.num_threads = 1;
@@ -440,21 +451,9 @@ TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
 // plane that is costed in full gets the cost it always had.
 TEST(KernelRefinement, RejectedPlanesCouldNotHaveWon) {
   const int W = 80, H = 60;
-  const float I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  const float t0[3] = {0.f, 0.f, 0.f};
   const std::vector<float> img = RandomImage(W, H, 21);
-  PatchMatchProblem problem;
-  problem.ref_camera = MakeCamera(W, H, 70.f, I, t0);
-  problem.ref_image = ImageView{img.data(), W, H};
-  for (int s = 0; s < 3; ++s) {
-    const float t[3] = {0.1f * (s + 1), 0.03f * s, 0.f};
-    PatchMatchSource source;
-    source.camera = MakeCamera(W, H, 70.f, I, t);
-    source.image = problem.ref_image;
-    problem.sources.push_back(source);
-  }
-  problem.depth_min = 1.f;
-  problem.depth_max = 10.f;
+  const PatchMatchProblem problem =
+      ShiftedSourcesProblem(img, W, H, 70.f, {{0.1f, 0.f, 0.f}, {0.2f, 0.03f, 0.f}, {0.3f, 0.06f, 0.f}});
   PatchMatchSchedule schedule;
   schedule.iterations.push_back({0, 0});
   const std::vector<SourceView> sources = MakeSourceViews(problem);
