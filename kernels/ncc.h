@@ -185,6 +185,12 @@ MPMVS_HD inline void ComputeRefPatch(const ImageView& ref, int u, int v, const W
   patch->texture = Max(patch->variance - ramp, 0.f);
 }
 
+// Whether a reference patch is flat (a saturated or clipped area, such as an over-exposed
+// window pane): no view can cost any plane there.
+MPMVS_HD MPMVS_FORCE_INLINE bool RefPatchIsFlat(const RefPatch& patch) {
+  return !(patch.variance >= kMinNccVariance);
+}
+
 // Whether an NCC is defined at all: the window centre maps in front of the source camera
 // and inside its image, and the reference patch is not flat. Only the centre is tested.
 MPMVS_HD MPMVS_FORCE_INLINE bool NccDefined(const RefPatch& patch, const ImageView& src,
@@ -193,8 +199,7 @@ MPMVS_HD MPMVS_FORCE_INLINE bool NccDefined(const RefPatch& patch, const ImageVi
   if (!(cz > 0.f)) return false;
   const float cx = (H[0] * fu + H[1] * fv + H[2]) / cz;
   const float cy = (H[3] * fu + H[4] * fv + H[5]) / cz;
-  return cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height &&
-         patch.variance >= kMinNccVariance;
+  return cx >= 0.f && cx < src.width && cy >= 0.f && cy < src.height && !RefPatchIsFlat(patch);
 }
 
 // The NCC cost of a window for which NccDefined holds (the caller has checked).

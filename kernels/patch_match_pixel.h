@@ -247,20 +247,15 @@ MPMVS_HD inline bool PixelPriorActive(const PassParams& params, const RefPatch& 
   return !TextureAdaptivePrior(params) || PlainWindow(patch, params.noise_variance);
 }
 
-// Whether no view can cost any plane at a pixel: its reference window is flat (a saturated
-// or clipped area, such as an over-exposed window pane).
-MPMVS_HD MPMVS_FORCE_INLINE bool RefPatchIsFlat(const RefPatch& patch) {
-  return !(patch.variance >= kMinNccVariance);
-}
-
 // Costs of a flat pixel that takes its prior plane: NCC 0, no evidence either way. Where the
 // views say nothing at all, the planar prior built from the verified vertices around the area
 // is the estimate; later passes keep it, since no view can cost another plane there
 // (kernels/DESIGN.md 21). Never a prior vertex (m_p < 0.2).
 constexpr float kFlatPriorCost = 1.f;
 
-// Fills a flat pixel from its prior plane (prior passes) or keeps an earlier fill (init_cost
-// below kInvalidCost; any later pass). False where neither applies.
+// Fills a flat pixel from its prior plane (prior passes) or keeps its earlier estimate (a
+// fill, or a coarser window's estimate: init_cost below kInvalidCost). False where neither
+// applies.
 MPMVS_HD inline bool FillFlatPixel(const PassParams& params, const PixelState& state, int idx,
                                    Vec3 ray, bool have, const Plane& earlier,
                                    const float* init_cost) {
@@ -693,7 +688,8 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
   RefPatch patch;
   ComputeRefPatch(params.ref_image, u, v, params.window, &patch, PriorNeedsTexture(params));
-  // A filled flat pixel keeps its plane: no view can cost another (FillFlatPixel).
+  // A flat pixel with an estimate (a fill, or a coarser window's) keeps it: no view can cost
+  // another plane here (FillFlatPixel).
   if (RefPatchIsFlat(patch) && state.photo_cost[idx] < kInvalidCost) return;
 
   Candidates cand;

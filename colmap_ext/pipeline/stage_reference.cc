@@ -109,7 +109,8 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   size_t labelled = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
   LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
-          " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image), " + std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
+          " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image), " +
+          std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
           std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");
 }
