@@ -223,5 +223,31 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
   return removed;
 }
 
+size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
+                                      int num_threads, PatchMatchResult* result) {
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  PatchMatchSchedule schedule;
+  schedule.geometric = true;
+  const PassParams params = MakePassParams(problem, schedule, sources.data());
+  PixelState state;
+  state.plane = result->plane.data();
+  state.photo_cost = result->photo_cost.data();
+  const int W = result->width, H = result->height;
+  std::vector<uint8_t> keep(static_cast<size_t>(W) * H, 0);
+  ParallelRows(H, ResolveThreads(num_threads), [&](int v, uint32_t*) {
+    for (int u = 0; u < W; ++u) {
+      keep[static_cast<size_t>(v) * W + u] = PixelDepthConfirmed(params, state, u, v, min_views, max_relative_error);
+    }
+  });
+  size_t removed = 0;
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i] && result->photo_cost[i] < kInvalidCost) {
+      result->photo_cost[i] = kInvalidCost;
+      ++removed;
+    }
+  }
+  return removed;
+}
+
 }  // namespace kernels
 }  // namespace mpmvs

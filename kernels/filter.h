@@ -48,5 +48,32 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
   return consistent >= MinI(filter.min_num_consistent, params.num_sources);
 }
 
+// Whether at least min_views sources' depth maps confirm the pixel's depth: its point, seen
+// from a source, lies within max_relative_error of the depth the source holds at the nearest
+// pixel (the depth test of COLMAP's stereo_fusion). A source that is occluded there, has no
+// depth there or does not see the point does not confirm it.
+MPMVS_HD inline bool PixelDepthConfirmed(const PassParams& params, const PixelState& state, int u, int v,
+                                         int min_views, float max_relative_error) {
+  const int idx = v * params.ref_camera.width + u;
+  const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
+  const float depth = PlaneDepth(LoadPlane(state.plane, idx), ray);
+  if (!(state.photo_cost[idx] < kInvalidCost) || !DepthInRange(params, depth)) return false;
+  int confirmed = 0;
+  for (int s = 0; s < params.num_sources && confirmed < min_views; ++s) {
+    const SourceView& src = params.sources[s];
+    if (!src.depth) continue;
+    const Vec3 X = MatVec(src.rel.R, depth * ray) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
+    float us, vs;
+    if (!ProjectCameraPoint(src.camera, X, &us, &vs)) continue;
+    if (!(us >= -0.5f && vs >= -0.5f && us + 0.5f < static_cast<float>(src.camera.width) &&
+          vs + 0.5f < static_cast<float>(src.camera.height))) {
+      continue;
+    }
+    const float d = src.depth[static_cast<long>(vs + 0.5f) * src.camera.width + static_cast<int>(us + 0.5f)];
+    if (d > 0.f && fabsf(d - X.z) < max_relative_error * X.z) ++confirmed;
+  }
+  return confirmed >= min_views;
+}
+
 }  // namespace kernels
 }  // namespace mpmvs

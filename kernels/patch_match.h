@@ -135,6 +135,11 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result);
 
+// Invalidates (photometric cost 2) the pixels whose depth fewer than min_views sources'
+// depth maps confirm within max_relative_error (PixelDepthConfirmed); returns how many.
+size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
+                                      int num_threads, PatchMatchResult* result);
+
 // 1 where the reference image's window of `window` around the pixel is plain (PlainWindow),
 // W*H entries (host, all cores).
 std::vector<uint8_t> PlainWindowMaskCpu(const ImageView& ref, const WindowSpec& window,

@@ -29,10 +29,11 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   };
   const std::vector<int> single(3, 11);
   const std::vector<int> multi = {41, 41, 41, 21, 21, 21, 11, 11, 11};
-  const std::vector<std::string> plain = {"photometric", "geometric1", "geometric2"};
-  const std::vector<std::string> pp = {"photometric", "prior", "geometric1", "geometric2"};
+  const std::vector<std::string> plain = {"photometric", "geometric1", "geometric2", "depth_check"};
+  const std::vector<std::string> pp = {"photometric", "prior", "geometric1", "geometric2", "depth_check"};
   // Default prior_rounds 2: a second prior from geometric2, then geometric3.
-  const std::vector<std::string> gp = {"photometric", "geometric1", "prior", "geometric2", "prior2", "geometric3"};
+  const std::vector<std::string> gp = {"photometric", "geometric1", "prior", "geometric2",
+                                       "prior2",      "geometric3", "depth_check"};
   const std::vector<Expected> expected = {
       {"ACMH", single, kernels::PatternKind::kAcmh, plain},
       {"mPM+ACMH", multi, kernels::PatternKind::kAcmh, plain},

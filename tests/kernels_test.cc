@@ -1,6 +1,7 @@
 // Unit tests of the shared per-pixel math (kernels/*.h) as the CPU backend runs it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -425,6 +426,54 @@ TEST(KernelPrior, FlatPixelsTakeThePriorPlaneAndKeepIt) {
 
 // Plain windows (no vertices of the planar prior, prior acts) are those whose texture after
 // removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
+// The depth check of the written maps (kernels/DESIGN.md 22): a depth stays only where
+// enough sources' depth maps hold the same point within 1 %.
+TEST(KernelDepthCheck, KeepsTheDepthsThatEnoughSourcesConfirm) {
+  const int W = 40, H = 30;
+  const std::vector<float> img = RandomImage(W, H, 7);
+  PatchMatchProblem problem = ShiftedSourcesProblem(img, W, H, 50.f, {{0.2f, 0.f, 0.f}, {0.3f, 0.f, 0.f}});
+  // Source 0 sees the plane at depth 4 on its left half and 10 % too far on its right half;
+  // source 1 sees it at 4 everywhere. The sources shift the image by 2.5 and 3.75 px.
+  std::vector<float> half(static_cast<size_t>(W) * H), whole(half.size(), 4.f);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) half[v * W + u] = u < W / 2 ? 4.f : 4.4f;
+  }
+  problem.sources[0].depth_map = half.data();
+  problem.sources[1].depth_map = whole.data();
+  auto fronto_parallel = [&] {
+    PatchMatchResult result;
+    result.width = W;
+    result.height = H;
+    for (int i = 0; i < W * H; ++i) result.plane.insert(result.plane.end(), {0.f, 0.f, -1.f, 4.f});
+    result.photo_cost.assign(static_cast<size_t>(W) * H, 0.1f);
+    result.photo_cost[0] = kInvalidCost;  // no estimate: stays without one, not counted
+    return result;
+  };
+  auto kept = [&](const PatchMatchResult& r, int u, int v) { return r.photo_cost[v * W + u] < kInvalidCost; };
+
+  // One confirming view: source 1 confirms every pixel it sees (the last 4 columns it does not).
+  PatchMatchResult one = fronto_parallel();
+  const size_t removed_one = InvalidateUnconfirmedDepthsCpu(problem, 1, 0.01f, 2, &one);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 1; u < W - 5; ++u) EXPECT_TRUE(kept(one, u, v)) << u << "," << v;
+    for (int u = W - 3; u < W; ++u) EXPECT_FALSE(kept(one, u, v)) << u << "," << v;
+  }
+  EXPECT_FALSE(kept(one, 0, 0));
+  EXPECT_EQ(removed_one, static_cast<size_t>(std::count(one.photo_cost.begin(), one.photo_cost.end(), kInvalidCost)) - 1);
+
+  // Two: only where source 0's depth is right too.
+  PatchMatchResult two = fronto_parallel();
+  InvalidateUnconfirmedDepthsCpu(problem, 2, 0.01f, 2, &two);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 1; u < W / 2 - 4; ++u) EXPECT_TRUE(kept(two, u, v)) << u << "," << v;
+    for (int u = W / 2; u < W; ++u) EXPECT_FALSE(kept(two, u, v)) << u << "," << v;
+  }
+  // A wider tolerance accepts source 0's 10 % error.
+  PatchMatchResult loose = fronto_parallel();
+  InvalidateUnconfirmedDepthsCpu(problem, 2, 0.15f, 2, &loose);
+  for (int u = 1; u < W - 5; ++u) EXPECT_TRUE(kept(loose, u, H / 2)) << u;
+}
+
 TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
   const int W = 64, H = 40;
   const std::vector<float> img =  // a steeply lit wall from x = 32

@@ -96,7 +96,7 @@ TEST(Pipeline, TiltedPlaneSceneMeetsAccuracyTarget) {
   run.workspace_path = tmp.path();
   const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
   EXPECT_EQ(summary.num_written, 4);
-  ASSERT_EQ(summary.stages.size(), 6u);  // two prior rounds
+  ASSERT_EQ(summary.stages.size(), 7u);  // two prior rounds, then the depth check
   EXPECT_EQ(summary.stages[0].name, "photometric");
   EXPECT_EQ(summary.stages[2].name, "prior");
   EXPECT_EQ(summary.stages[4].name, "prior2");

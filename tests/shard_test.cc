@@ -110,7 +110,7 @@ TEST(Shard, AnySplitGivesTheMapsOfOneProcess) {
   // Stage by stage, shard by shard, in reverse order; a stage before its inputs is an error.
   EXPECT_NE(run(tmp / "split", "--MPMVS.stage geometric1", tmp / "early.log"), 0);
   EXPECT_NE(test::ReadTextFile(tmp / "early.log").find("photometric.state.bin"), std::string::npos);
-  for (const char* stage : {"photometric", "geometric1", "prior", "geometric2", "prior2", "geometric3"}) {
+  for (const char* stage : {"photometric", "geometric1", "prior", "geometric2", "prior2", "geometric3", "depth_check"}) {
     for (int k = 2; k >= 0; --k) {
       ASSERT_EQ(run(tmp / "split", std::string("--MPMVS.stage ") + stage + " --MPMVS.shard " + std::to_string(k) + "/3",
                     tmp / "split.log"),

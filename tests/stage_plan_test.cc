@@ -20,21 +20,35 @@ TEST(StagePlan, EachPriorRoundBuildsOnThePreviousGeometricPass) {
   MpMvsOptions options;
   options.prior_rounds = 1;
   EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)),
-            "photometric<- geometric1<photometric prior<geometric1 geometric2<prior");
+            "photometric<- geometric1<photometric prior<geometric1 geometric2<prior depth_check<geometric2");
   options.prior_rounds = 2;
   const PipelinePlan two = MakePipelinePlan(colmap, options);
   EXPECT_EQ(Chain(two), "photometric<- geometric1<photometric prior<geometric1 geometric2<prior "
-                        "prior2<geometric2 geometric3<prior2");
-  EXPECT_EQ(two.stages[two.geometric_output].name, "geometric3");
+                        "prior2<geometric2 geometric3<prior2 depth_check<geometric3");
+  EXPECT_EQ(two.stages[two.geometric_output].name, "depth_check");
+  EXPECT_EQ(two.stages[two.geometric_output].kind, StageKind::kDepthCheck);
+  EXPECT_EQ(two.stages[two.geometric_output].depth_check_views, 1);
+  EXPECT_TRUE(two.stages[two.geometric_output].schedule.geometric);  // reads its sources' results
+  EXPECT_TRUE(two.stages[two.geometric_output].schedule.iterations.empty());
   EXPECT_EQ(two.stages[two.photometric_output].name, "photometric");
   EXPECT_EQ(two.stages[4].kind, StageKind::kPlanarPrior);
   EXPECT_TRUE(two.stages[4].prior_geometric_selection);
   // The other modes have one prior at most: rounds do not apply.
   options.planar_prior = "photometric";
   EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)),
-            "photometric<- prior<photometric geometric1<prior geometric2<geometric1");
+            "photometric<- prior<photometric geometric1<prior geometric2<geometric1 depth_check<geometric2");
   options.planar_prior = "none";
-  EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)), "photometric<- geometric1<photometric geometric2<geometric1");
+  EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)),
+            "photometric<- geometric1<photometric geometric2<geometric1 depth_check<geometric2");
+  // Without the check (the paper) the last geometric pass writes the maps.
+  options.depth_check_views = 0;
+  const PipelinePlan paper = MakePipelinePlan(colmap, options);
+  EXPECT_EQ(Chain(paper), "photometric<- geometric1<photometric geometric2<geometric1");
+  EXPECT_EQ(paper.stages[paper.geometric_output].name, "geometric2");
+  // Without geometric stages there is nothing to check against.
+  options.depth_check_views = 1;
+  colmap.geom_consistency = false;
+  EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)), "photometric<-");
 }
 
 TEST(StagePlan, PriorRoundsAreChecked) {

@@ -58,6 +58,8 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");
   parser->Add(q + "refinement_rho", &m->refinement_rho);
+  parser->Add(q + "depth_check_views", &m->depth_check_views,
+              "source views whose final depth maps must confirm a written depth within 1 %; 0 = no check (paper)");
   parser->Add(q + "chroma_weight", &m->chroma_weight,
               "weight of the reference's smoothed colour in the NCC weights; 0 = grey only (paper)");
   parser->Add(q + "max_source_images", &m->max_source_images);

@@ -329,7 +329,16 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
       ++summary->images_resumed;
       break;
     case StageReference::Action::kCompute:
-      backend_->Run(ref->pm, stage.schedule, &result, next);
+      if (stage.kind == StageKind::kDepthCheck) {
+        result = ref->input;
+        const size_t removed = kernels::InvalidateUnconfirmedDepthsCpu(
+            ref->pm, stage.depth_check_views, kDepthCheckMaxRelativeError, plan_.num_threads, &result);
+        LogInfo(name + ": depth check removed " + std::to_string(removed) + " pixels (" +
+                std::to_string(100 * removed / std::max<size_t>(1, result.photo_cost.size())) +
+                "%) that no source view's depth confirms");
+      } else {
+        backend_->Run(ref->pm, stage.schedule, &result, next);
+      }
       store_->WriteState(p.ref, stage.name, result);
       if (plan_.write_pictures) {
         WriteStagePictures(workspace_, p, ref->pm.ref_camera, stage.name, result,

@@ -75,6 +75,8 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (max_source_images < 1 || max_source_images > 32)
     return Fail(error, p + "max_source_images", max_source_images, "in [1, 32]");
   if (seed < 0) return Fail(error, p + "seed", seed, ">= 0");
+  if (depth_check_views < 0 || depth_check_views > 32)
+    return Fail(error, p + "depth_check_views", depth_check_views, "in [0, 32]");
   if (prior_rounds < 1 || prior_rounds > 4) return Fail(error, p + "prior_rounds", prior_rounds, "in [1, 4]");
   if (stage.empty()) return Fail(error, p + "stage", stage, "all or a stage name (photometric, geometric1, ...)");
   if (claim_lease < 1) return Fail(error, p + "claim_lease", claim_lease, ">= 1 (seconds)");

@@ -59,6 +59,9 @@ struct MpMvsOptions {
   // stages, so that noise-fitted planes do not beat consistent ones on untextured surfaces.
   bool noise_floor = true;
   double refinement_rho = 0.02;
+  // The written depth of a pixel must be confirmed by at least this many source views' final
+  // depth maps (within 1 %, as COLMAP's stereo_fusion checks); 0: no check (the paper).
+  int depth_check_views = 1;
   // Bilateral weights: grey difference + this x the smoothed chroma difference of the
   // reference (kernels/DESIGN.md item 13). 0: grey only, as ACMH / the MP-MVS code.
   double chroma_weight = 8;

@@ -7,6 +7,7 @@ std::string StageKindName(StageKind kind) {
     case StageKind::kPhotometric: return "photometric";
     case StageKind::kGeometric: return "geometric";
     case StageKind::kPlanarPrior: return "planar prior";
+    case StageKind::kDepthCheck: return "depth check";
   }
   return "?";
 }
@@ -78,6 +79,18 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
       }
     } else {
       add_geometric("geometric2");
+    }
+    if (options.depth_check_views > 0) {
+      // No PatchMatch iterations: the last geometric pass's results, checked against its
+      // sources' results of the same pass (kernels/DESIGN.md 22).
+      StagePlan check;
+      check.name = "depth_check";
+      check.kind = StageKind::kDepthCheck;
+      check.input = static_cast<int>(plan.stages.size()) - 1;
+      check.depth_check_views = options.depth_check_views;
+      check.schedule = base;
+      check.schedule.geometric = true;  // reads the sources' results of its input stage
+      plan.stages.push_back(check);
     }
     plan.geometric_output = static_cast<int>(plan.stages.size()) - 1;
   }

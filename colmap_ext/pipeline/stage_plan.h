@@ -4,6 +4,8 @@
 //                 [-> prior2 (from pass 2) -> geometric pass 3 ...: --MPMVS.prior_rounds]
 //   pp (ACMP):    photometric mPM -> planar prior (photometric selection) -> geometric x2
 //   none:         photometric mPM -> geometric x2
+// then, with geometric stages, a depth check (--MPMVS.depth_check_views) of the last one's
+// results against its sources' results, which writes the geometric maps.
 // Each stage reads the previous stage's results of all images (Jacobi), never results of
 // the same stage, so the output does not depend on the image order.
 #include <string>
@@ -14,15 +16,19 @@
 
 namespace mpmvs {
 
-enum class StageKind { kPhotometric, kGeometric, kPlanarPrior };
+enum class StageKind { kPhotometric, kGeometric, kPlanarPrior, kDepthCheck };
 
 struct StagePlan {
   std::string name;        // file tag in stereo/mpmvs: "photometric", "geometric1", ...
   StageKind kind = StageKind::kPhotometric;
   int input = -1;          // stage whose results initialise this one (and feed sources)
   bool prior_geometric_selection = false;  // kPlanarPrior: MP-MVS (true) or ACMP (false)
+  int depth_check_views = 0;               // kDepthCheck: source views that must confirm a depth
   kernels::PatchMatchSchedule schedule;
 };
+
+// The depth check's tolerance, relative to depth: COLMAP stereo_fusion's max_depth_error.
+constexpr float kDepthCheckMaxRelativeError = 0.01f;
 
 struct PipelinePlan {
   std::vector<StagePlan> stages;
