@@ -198,20 +198,19 @@ void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_ma
   }
 }
 
-size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
-                       int num_threads, PatchMatchResult* result) {
-  const std::vector<SourceView> sources = MakeSourceViews(problem);
-  PatchMatchSchedule schedule;
-  schedule.geometric = geometric;
-  PassParams params = MakePassParams(problem, schedule, sources.data());
-  params.window = WindowForScale(0);  // once, not per pixel and view (36 square roots)
+namespace {
+
+// Invalidates (photometric cost 2) each pixel with an estimate that keep(state, u, v) rejects,
+// all pixels decided before any changes; returns how many.
+template <class Keep>
+size_t InvalidateRejectedPixels(int num_threads, PatchMatchResult* result, const Keep& keep_pixel) {
   PixelState state;
   state.plane = result->plane.data();
   state.photo_cost = result->photo_cost.data();
   const int W = result->width, H = result->height;
   std::vector<uint8_t> keep(static_cast<size_t>(W) * H, 0);
   ParallelRows(H, ResolveThreads(num_threads), [&](int v, uint32_t*) {
-    for (int u = 0; u < W; ++u) keep[static_cast<size_t>(v) * W + u] = PixelPassesFilter<CpuNcc>(params, filter, state, u, v);
+    for (int u = 0; u < W; ++u) keep[static_cast<size_t>(v) * W + u] = keep_pixel(state, u, v);
   });
   size_t removed = 0;
   for (size_t i = 0; i < keep.size(); ++i) {
@@ -223,30 +222,29 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
   return removed;
 }
 
+}  // namespace
+
+size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
+                       int num_threads, PatchMatchResult* result) {
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  PatchMatchSchedule schedule;
+  schedule.geometric = geometric;
+  PassParams params = MakePassParams(problem, schedule, sources.data());
+  params.window = WindowForScale(0);  // once, not per pixel and view (36 square roots)
+  return InvalidateRejectedPixels(num_threads, result, [&](const PixelState& state, int u, int v) {
+    return PixelPassesFilter<CpuNcc>(params, filter, state, u, v);
+  });
+}
+
 size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
                                       int num_threads, PatchMatchResult* result) {
   const std::vector<SourceView> sources = MakeSourceViews(problem);
   PatchMatchSchedule schedule;
   schedule.geometric = true;
   const PassParams params = MakePassParams(problem, schedule, sources.data());
-  PixelState state;
-  state.plane = result->plane.data();
-  state.photo_cost = result->photo_cost.data();
-  const int W = result->width, H = result->height;
-  std::vector<uint8_t> keep(static_cast<size_t>(W) * H, 0);
-  ParallelRows(H, ResolveThreads(num_threads), [&](int v, uint32_t*) {
-    for (int u = 0; u < W; ++u) {
-      keep[static_cast<size_t>(v) * W + u] = PixelDepthConfirmed(params, state, u, v, min_views, max_relative_error);
-    }
+  return InvalidateRejectedPixels(num_threads, result, [&](const PixelState& state, int u, int v) {
+    return PixelDepthConfirmed(params, state, u, v, min_views, max_relative_error);
   });
-  size_t removed = 0;
-  for (size_t i = 0; i < keep.size(); ++i) {
-    if (!keep[i] && result->photo_cost[i] < kInvalidCost) {
-      result->photo_cost[i] = kInvalidCost;
-      ++removed;
-    }
-  }
-  return removed;
 }
 
 }  // namespace kernels
