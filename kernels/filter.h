@@ -62,14 +62,9 @@ MPMVS_HD inline bool PixelDepthConfirmed(const PassParams& params, const PixelSt
   for (int s = 0; s < params.num_sources && confirmed < min_views; ++s) {
     const SourceView& src = params.sources[s];
     if (!src.depth) continue;
-    const Vec3 X = MatVec(src.rel.R, depth * ray) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
+    Vec3 X;
     float us, vs;
-    if (!ProjectCameraPoint(src.camera, X, &us, &vs)) continue;
-    if (!(us >= -0.5f && vs >= -0.5f && us + 0.5f < static_cast<float>(src.camera.width) &&
-          vs + 0.5f < static_cast<float>(src.camera.height))) {
-      continue;
-    }
-    const float d = src.depth[static_cast<long>(vs + 0.5f) * src.camera.width + static_cast<int>(us + 0.5f)];
+    const float d = SourceDepthAtPoint(src, depth * ray, &X, &us, &vs);
     if (d > 0.f && fabsf(d - X.z) < max_relative_error * X.z) ++confirmed;
   }
   return confirmed >= min_views;

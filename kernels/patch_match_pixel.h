@@ -121,24 +121,32 @@ MPMVS_HD MPMVS_FORCE_INLINE bool DepthInRange(const PassParams& params, float de
 // ---------------------------------------------------------------------------------------
 // Costs
 
+// The point X_ref (reference camera frame) seen from source view src: the point in the
+// source's frame (*X_src), its pixel (*us, *vs) and the depth the source's map holds at the
+// nearest pixel; 0 where the point is behind the source or outside its image.
+MPMVS_HD inline float SourceDepthAtPoint(const SourceView& src, Vec3 X_ref, Vec3* X_src, float* us, float* vs) {
+  *X_src = MatVec(src.rel.R, X_ref) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
+  if (!ProjectCameraPoint(src.camera, *X_src, us, vs)) return 0.f;
+  // Range check in float before converting: near the source's image plane the projection
+  // leaves every int range (or is inf/NaN), and a conversion of it is undefined.
+  if (!(*us >= -0.5f && *vs >= -0.5f && *us + 0.5f < static_cast<float>(src.camera.width) &&
+        *vs + 0.5f < static_cast<float>(src.camera.height))) {
+    return 0.f;
+  }
+  const int col = static_cast<int>(*us + 0.5f);
+  const int row = static_cast<int>(*vs + 0.5f);
+  return src.depth[static_cast<long>(row) * src.camera.width + col];
+}
+
 // Forward-backward reprojection error (px) of the point at `depth` on the ray of (u, v)
 // through source view s and its depth map, clamped to max_error (docs/algorithm.md §7).
 MPMVS_HD inline float GeometricError(const PassParams& params, const SourceView& src, int u, int v,
                                      Vec3 ray, float depth) {
   const float max_error = params.geom_max_error;
   if (!(depth > 0.f)) return max_error;
-  const Vec3 X_src = MatVec(src.rel.R, depth * ray) + Vec3{src.rel.t[0], src.rel.t[1], src.rel.t[2]};
+  Vec3 X_src;
   float us, vs;
-  if (!ProjectCameraPoint(src.camera, X_src, &us, &vs)) return max_error;
-  // Range check in float before converting: near the source's image plane the projection
-  // leaves every int range (or is inf/NaN), and a conversion of it is undefined.
-  if (!(us >= -0.5f && vs >= -0.5f && us + 0.5f < static_cast<float>(src.camera.width) &&
-        vs + 0.5f < static_cast<float>(src.camera.height))) {
-    return max_error;
-  }
-  const int col = static_cast<int>(us + 0.5f);
-  const int row = static_cast<int>(vs + 0.5f);
-  const float d = src.depth[static_cast<long>(row) * src.camera.width + col];
+  const float d = SourceDepthAtPoint(src, depth * ray, &X_src, &us, &vs);
   if (!(d > 0.f)) return max_error;
   const Vec3 back = d * PixelRay(src.camera, us, vs);
   const Vec3 X_ref =
