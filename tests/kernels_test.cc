@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kernels/ncc_simd.h"
+#include "kernels/depth_segments.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
@@ -424,8 +425,6 @@ TEST(KernelPrior, FlatPixelsTakeThePriorPlaneAndKeepIt) {
   EXPECT_FLOAT_EQ(depth_at(kept, centre), 4.f);
 }
 
-// Plain windows (no vertices of the planar prior, prior acts) are those whose texture after
-// removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
 // The depth check of the written maps (kernels/DESIGN.md 22): a depth stays only where
 // enough sources' depth maps hold the same point within 1 %.
 TEST(KernelDepthCheck, KeepsTheDepthsThatEnoughSourcesConfirm) {
@@ -474,6 +473,52 @@ TEST(KernelDepthCheck, KeepsTheDepthsThatEnoughSourcesConfirm) {
   for (int u = 1; u < W - 5; ++u) EXPECT_TRUE(kept(loose, u, H / 2)) << u;
 }
 
+// The depth check also drops depth segments under a size (kernels/DESIGN.md 23): a speckle
+// goes, a patch of its own depth as large as the limit stays, and so does a slanted surface
+// whose neighbouring depths differ by less than the step.
+TEST(KernelDepthCheck, RemovesSmallDepthSegmentsOnly) {
+  const int W = 40, H = 30;
+  const std::vector<float> img = RandomImage(W, H, 7);
+  const PatchMatchProblem problem = ShiftedSourcesProblem(img, W, H, 50.f, {{0.2f, 0.f, 0.f}});
+  const Camera& cam = problem.ref_camera;
+  PatchMatchResult result;
+  result.width = W;
+  result.height = H;
+  result.photo_cost.assign(static_cast<size_t>(W) * H, 0.1f);
+  auto in_box = [](int u, int v, int u0, int v0, int size) {
+    return u >= u0 && u < u0 + size && v >= v0 && v < v0 + size;
+  };
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      // Left: a ramp, 0.5 % deeper per column; right of column 20: depth 4, with a 3x3 speckle
+      // at depth 5 and a 10x10 patch (100 pixels) at depth 3.
+      float depth = u < 20 ? 4.f * std::pow(1.005f, static_cast<float>(u)) : 4.f;
+      if (in_box(u, v, 24, 3, 3)) depth = 5.f;
+      if (in_box(u, v, 25, 15, 10)) depth = 3.f;
+      const Plane plane = PlaneFromDepthNormal(PixelRay(cam, static_cast<float>(u), static_cast<float>(v)), depth,
+                                               Vec3{0.f, 0.f, -1.f});
+      result.plane.insert(result.plane.end(), {plane.n.x, plane.n.y, plane.n.z, plane.d});
+    }
+  }
+  result.photo_cost[(H - 1) * W + 21] = kInvalidCost;  // no estimate: not counted
+  const size_t removed = InvalidateSmallDepthSegments(problem, 100, 0.01f, &result);
+  EXPECT_EQ(removed, 9u);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const bool expect_kept = !in_box(u, v, 24, 3, 3) && !(v == H - 1 && u == 21);
+      EXPECT_EQ(result.photo_cost[v * W + u] < kInvalidCost, expect_kept) << u << "," << v;
+    }
+  }
+  // With a limit of 101 pixels the 10x10 patch goes too; with a step below the ramp's 0.5 %
+  // every column of the ramp is a segment of its own (30 pixels) and goes.
+  PatchMatchResult stricter = result;
+  EXPECT_EQ(InvalidateSmallDepthSegments(problem, 101, 0.01f, &stricter), 100u);
+  PatchMatchResult finer = result;
+  EXPECT_EQ(InvalidateSmallDepthSegments(problem, 100, 0.004f, &finer), 20u * H);
+}
+
+// Plain windows (no vertices of the planar prior, prior acts) are those whose texture after
+// removing a shading ramp is within the noise: a steep lit wall is plain, texture is not.
 TEST(KernelPrior, PlainWindowMaskMarksShadedWallsNotTexture) {
   const int W = 64, H = 40;
   const std::vector<float> img =  // a steeply lit wall from x = 32

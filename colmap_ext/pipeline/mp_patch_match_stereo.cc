@@ -24,6 +24,7 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
+#include "kernels/depth_segments.h"
 
 namespace mpmvs {
 namespace {
@@ -331,11 +332,17 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
     case StageReference::Action::kCompute:
       if (stage.kind == StageKind::kDepthCheck) {
         result = ref->input;
-        const size_t removed = kernels::InvalidateUnconfirmedDepthsCpu(
+        // What the written map leaves out anyway goes first, so that it splits no segment.
+        kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, &result);
+        const size_t unconfirmed = kernels::InvalidateUnconfirmedDepthsCpu(
             ref->pm, stage.depth_check_views, kDepthCheckMaxRelativeError, plan_.num_threads, &result);
-        LogInfo(name + ": depth check removed " + std::to_string(removed) + " pixels (" +
-                std::to_string(100 * removed / std::max<size_t>(1, result.photo_cost.size())) +
-                "%) that no source view's depth confirms");
+        const size_t speckles = kernels::InvalidateSmallDepthSegments(ref->pm, kDepthCheckMinSegmentPixels,
+                                                                      kDepthCheckMaxRelativeError, &result);
+        const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
+        LogInfo(name + ": depth check removed " + std::to_string(unconfirmed) + " pixels (" +
+                std::to_string(100 * unconfirmed / pixels) + "%) that no source view's depth confirms and " +
+                std::to_string(speckles) + " (" + std::to_string(100 * speckles / pixels) +
+                "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
       } else {
         backend_->Run(ref->pm, stage.schedule, &result, next);
       }
