@@ -12,6 +12,7 @@
 
 #include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/pipeline/backend.h"
+#include "colmap_ext/pipeline/depth_check.h"
 #include "colmap_ext/pipeline/output_maps.h"
 #include "colmap_ext/pipeline/reference_problems.h"
 #include "colmap_ext/pipeline/run_plan.h"
@@ -24,7 +25,6 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
-#include "kernels/depth_segments.h"
 
 namespace mpmvs {
 namespace {
@@ -332,16 +332,12 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
     case StageReference::Action::kCompute:
       if (stage.kind == StageKind::kDepthCheck) {
         result = ref->input;
-        // What the written map leaves out anyway goes first, so that it splits no segment.
-        kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, &result);
-        const size_t unconfirmed = kernels::InvalidateUnconfirmedDepthsCpu(
-            ref->pm, stage.depth_check_views, kDepthCheckMaxRelativeError, plan_.num_threads, &result);
-        const size_t speckles = kernels::InvalidateSmallDepthSegments(ref->pm, kDepthCheckMinSegmentPixels,
-                                                                      kDepthCheckMaxRelativeError, &result);
+        const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_max_error,
+                                                       stage.depth_check_views, plan_.num_threads, &result);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
-        LogInfo(name + ": depth check removed " + std::to_string(unconfirmed) + " pixels (" +
-                std::to_string(100 * unconfirmed / pixels) + "%) that no source view's depth confirms and " +
-                std::to_string(speckles) + " (" + std::to_string(100 * speckles / pixels) +
+        LogInfo(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
+                std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
+                std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
       } else {
         backend_->Run(ref->pm, stage.schedule, &result, next);

@@ -27,12 +27,6 @@ struct StagePlan {
   kernels::PatchMatchSchedule schedule;
 };
 
-// The depth check's tolerance, relative to depth: COLMAP stereo_fusion's max_depth_error.
-constexpr float kDepthCheckMaxRelativeError = 0.01f;
-// The depth check also removes depth segments (4-neighbours within the tolerance above)
-// smaller than this: isolated speckles, mostly wrong (kernels/DESIGN.md item 23).
-constexpr int kDepthCheckMinSegmentPixels = 100;
-
 struct PipelinePlan {
   std::vector<StagePlan> stages;
   int photometric_output = -1;  // stage written as NAME.photometric.bin
