@@ -1,6 +1,8 @@
 // The stage chain of each planar-prior mode (pipeline/stage_plan.h).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "colmap_ext/pipeline/stage_plan.h"
 
 namespace mpmvs {
@@ -51,7 +53,17 @@ TEST(StagePlan, EachPriorRoundBuildsOnThePreviousGeometricPass) {
   EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)), "photometric<-");
 }
 
-TEST(StagePlan, PriorRoundsAreChecked) {
+TEST(StagePlan, OnlyTheFirstPriorRoundBuildsOnAnEstimateWithoutPrior) {
+  MpMvsOptions options;
+  const PipelinePlan plan = MakePipelinePlan(PatchMatchStereoOptions(), options);
+  std::string follows;
+  for (const StagePlan& st : plan.stages) follows += BuildsOnPrior(plan, st.input) ? "1" : "0";
+  // photometric geometric1 prior geometric2 prior2 geometric3 depth_check
+  EXPECT_EQ(follows, "0001111");
+  EXPECT_FALSE(BuildsOnPrior(plan, -1));
+}
+
+TEST(StagePlan, PriorRoundsAndVertexBendAreChecked) {
   MpMvsOptions options;
   std::string error;
   options.prior_rounds = 0;
@@ -60,6 +72,13 @@ TEST(StagePlan, PriorRoundsAreChecked) {
   options.prior_rounds = 5;
   EXPECT_FALSE(options.Check(&error));
   options.prior_rounds = 4;
+  EXPECT_TRUE(options.Check(&error)) << error;
+  options.prior_vertex_bend = -0.01;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_NE(error.find("prior_vertex_bend"), std::string::npos) << error;
+  options.prior_vertex_bend = std::nan("");
+  EXPECT_FALSE(options.Check(&error));
+  options.prior_vertex_bend = 0;  // off: the paper
   EXPECT_TRUE(options.Check(&error)) << error;
 }
 

@@ -54,6 +54,9 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_source_vertices", &m->prior_source_vertices,
               "gp: source views' vertices outside the reference image join its prior triangles; 0 = own vertices "
               "only (paper)");
+  parser->Add(q + "prior_vertex_bend", &m->prior_vertex_bend,
+              "gp, first prior: pixels where the depth bends by more than this (relative second difference of "
+              "inverse depth over +-3 px) are no vertices; 0 = off (paper)");
   parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");

@@ -52,6 +52,9 @@ struct MpMvsOptions {
   // gp: the source views' vertices outside the reference image join its prior triangulation
   // (false: the reference's own vertices only, the paper).
   bool prior_source_vertices = true;
+  // gp, first prior round: a pixel where the depth map's inverse depth bends by more than this
+  // (relative second difference over +-3 px) is no prior vertex (0: off, the paper).
+  double prior_vertex_bend = 0.01;
   // ACMP's beta: the weight of the photometric cost in the prior run's score, exp(-C^2/beta).
   // 0.18 is ACMP's; a large beta lets the prior decide wherever the views cannot.
   double prior_beta = 8;

@@ -33,17 +33,19 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
 // Each triangle's plane by a vote of the vertices around it (kernels/DESIGN.md 15): the
 // candidates are the own planes of the triangles that share a vertex with it (itself
 // first) and its vertices' tangent planes; each vertex within two rings of the triangle's
-// vertices votes for the candidates on which it lies (depth within 1 %); the most votes
-// win, a tie keeps the earlier candidate. A wall triangle whose corners sit on an object
-// in front of the wall, or whose three vertices lie on three surfaces, takes the plane
-// that its neighbourhood agrees on instead of a plane through empty space. A vertex's vote
-// weighs the square root of its share of the triangles' area, i.e. its spacing in pixels:
-// a textured object, dense with vertices, does not outvote by number alone the few
-// vertices that span the plain wall beside it (kernels/DESIGN.md 20).
+// vertices votes for the candidates on which it lies; the most votes win, a tie keeps the
+// earlier candidate. A wall triangle whose corners sit on an object in front of the wall,
+// or whose three vertices lie on three surfaces, takes the plane that its neighbourhood
+// agrees on instead of a plane through empty space. A vertex's vote weighs the square root
+// of its share of the triangles' area, i.e. its spacing in pixels: a textured object, dense
+// with vertices, does not outvote by number alone the few vertices that span the plain wall
+// beside it (kernels/DESIGN.md 20). "On the plane" is up to 1 % in front of it but only
+// 0.7 % behind it: the plane would hide a vertex behind it, and a plane between a wall and a
+// frame a little in front of it no longer gathers the votes of both (kernels/DESIGN.md 26).
 std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                         const std::vector<std::array<int, 3>>& faces,
                                         const std::vector<kernels::Plane>& own, int* num_changed) {
-  constexpr float kTolerance = 0.01f;
+  constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
   const size_t nv = vertices.size();
   std::vector<Vec3> points(nv), rays(nv);
   for (size_t i = 0; i < nv; ++i) {
@@ -106,7 +108,8 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
       float votes = 0.f;
       for (int j : voters) {
         const float z = kernels::PlaneDepth(candidates[c], rays[j]);
-        if (std::abs(z - vertices[j].depth) < kTolerance * vertices[j].depth) votes += weight[j];
+        const float behind = (vertices[j].depth - z) / vertices[j].depth;
+        if (behind > -kInFront && behind < kBehind) votes += weight[j];
       }
       if (votes > best_votes) {
         best = static_cast<int>(c);
@@ -146,6 +149,30 @@ int AddOutsideVertices(int W, int H, float depth_min, float depth_max, const Pla
 
 }  // namespace
 
+std::vector<uint8_t> BentDepthMask(int W, int H, const std::vector<float>& depth, int step, float max_relative) {
+  std::vector<uint8_t> bent(static_cast<size_t>(W) * H, 0);
+  constexpr int kDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      if (!(depth[i] > 0.f)) continue;
+      const float inverse = 1.f / depth[i];
+      for (const auto& d : kDirections) {
+        const int u0 = u - step * d[0], v0 = v - step * d[1], u1 = u + step * d[0], v1 = v + step * d[1];
+        if (u0 < 0 || u1 < 0 || u0 >= W || u1 >= W || v0 < 0 || v1 < 0 || v0 >= H || v1 >= H) continue;
+        const float z0 = depth[static_cast<size_t>(v0) * W + u0], z1 = depth[static_cast<size_t>(v1) * W + u1];
+        if (!(z0 > 0.f && z1 > 0.f)) continue;
+        // Inverse depth is affine in the pixel coordinates on any plane.
+        if (std::abs(1.f / z0 + 1.f / z1 - 2.f * inverse) > max_relative * inverse) {
+          bent[i] = 1;
+          break;
+        }
+      }
+    }
+  }
+  return bent;
+}
+
 std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& source,
                                                      const kernels::Camera& reference,
                                                      const std::vector<PlanarPriorVertex>& vertices) {
@@ -173,7 +200,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes,
-                                                   const std::vector<uint8_t>* plain) {
+                                                   const std::vector<uint8_t>* excluded) {
   const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
   const int per_cell = geometric ? options.points_per_cell : 1;
   const int cs = options.cell_size;
@@ -186,8 +213,9 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
         for (int u = cx; u < std::min(cx + cs, W); ++u) {
           const int i = v * W + u;
           // A plain window matches nearby wrong planes about as well as the right one (on
-          // smooth shading, consistently across views): it anchors no triangle.
-          if (!(depth[i] > 0.f) || (plain && (*plain)[i])) continue;
+          // smooth shading, consistently across views): it anchors no triangle. Nor does a
+          // pixel where the depth bends, which may carry a nearer surface's depth.
+          if (!(depth[i] > 0.f) || (excluded && (*excluded)[i])) continue;
           if (geometric) {
             // MP-MVS (paper): photometric cost < 0.2 and reprojection error < 1 px.
             if (photo_cost[i] < options.max_photo_cost && geo_error[i] < options.max_geom_error)
@@ -215,13 +243,13 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes,
-                                  const std::vector<uint8_t>* plain,
+                                  const std::vector<uint8_t>* excluded,
                                   const std::vector<PlanarPriorVertex>* outside_vertices) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, plain);
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded);
   if (outside_vertices) {
     model.num_outside_vertices =
         AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);

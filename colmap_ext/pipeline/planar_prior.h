@@ -27,7 +27,14 @@ struct PlanarPriorOptions {
   // A source vertex's photometric cost must be below this (ACMP's bar, stricter than
   // max_photo_cost): nothing in the reference image can check a point outside it.
   float source_max_photo_cost = 0.1f;
+  // Geometric selection from an estimate that followed no prior yet: a pixel where the depth
+  // map bends (BentDepthMask over +-kVertexBendStep px) by more than this is no vertex, as a
+  // surface in front bleeds its depth onto the background beside it (kernels/DESIGN.md 25).
+  // 0: off (the paper).
+  float max_vertex_bend = 0.01f;
 };
+
+constexpr int kVertexBendStep = 3;
 
 struct PlanarPriorVertex {
   int u = 0, v = 0;
@@ -46,8 +53,8 @@ struct PlanarPriorModel {
 
 // depth (W*H, 0 = none), photo_cost and geo_error (W*H) describe the reference image's
 // current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
-// label. plain (W*H, optional): 1 on plain windows (kernels::PlainWindow), which are never
-// vertices. outside_vertices (optional): vertices of other views in this camera
+// label. excluded (W*H, optional): 1 on pixels that are never vertices (plain windows,
+// kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices of other views in this camera
 // (TransferPriorVertices); those outside the image, within half its size of its border and
 // inside [depth_min, depth_max], join the selected ones, at most points_per_cell per cell.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
@@ -55,7 +62,7 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes = nullptr,
-                                  const std::vector<uint8_t>* plain = nullptr,
+                                  const std::vector<uint8_t>* excluded = nullptr,
                                   const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
 
 // Vertices of a source view seen from the reference camera: pixel (rounded) and depth in
@@ -64,6 +71,13 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
 std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& source,
                                                      const kernels::Camera& reference,
                                                      const std::vector<PlanarPriorVertex>& vertices);
+
+// 1 where the depth map bends at a pixel: along a row, a column or a diagonal, the second
+// difference of inverse depth over +-step px exceeds max_relative of its inverse depth (zero
+// on any plane: a step or a kink is near). Directions with a neighbour outside the image or
+// without depth are not tested.
+std::vector<uint8_t> BentDepthMask(int width, int height, const std::vector<float>& depth, int step,
+                                   float max_relative);
 
 // The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
 std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);
@@ -75,6 +89,6 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes = nullptr,
-                                                   const std::vector<uint8_t>* plain = nullptr);
+                                                   const std::vector<uint8_t>* excluded = nullptr);
 
 }  // namespace mpmvs

@@ -2,6 +2,13 @@
 
 namespace mpmvs {
 
+bool BuildsOnPrior(const PipelinePlan& pipeline, int k) {
+  for (; k >= 0; k = pipeline.stages[k].input) {
+    if (pipeline.stages[k].kind == StageKind::kPlanarPrior) return true;
+  }
+  return false;
+}
+
 std::string StageKindName(StageKind kind) {
   switch (kind) {
     case StageKind::kPhotometric: return "photometric";

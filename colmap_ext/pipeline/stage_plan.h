@@ -38,4 +38,8 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
 
 std::string StageKindName(StageKind kind);
 
+// Whether stage k (-1: none) is a prior run or builds on one: its estimate then follows that
+// prior's triangles, whose edges are kinks of the prior, not of the scene.
+bool BuildsOnPrior(const PipelinePlan& pipeline, int k);
+
 }  // namespace mpmvs

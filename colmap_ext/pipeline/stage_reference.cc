@@ -10,6 +10,15 @@
 namespace mpmvs {
 namespace {
 
+// Marks in *excluded (allocated if empty) the pixels where depth bends by more than
+// max_bend; nothing with max_bend 0.
+void ExcludeBentDepths(int W, int H, const std::vector<float>& depth, float max_bend, std::vector<uint8_t>* excluded) {
+  if (!(max_bend > 0.f)) return;
+  const std::vector<uint8_t> bent = BentDepthMask(W, H, depth, kVertexBendStep, max_bend);
+  if (excluded->empty()) excluded->assign(bent.size(), 0);
+  for (size_t i = 0; i < bent.size(); ++i) (*excluded)[i] |= bent[i];
+}
+
 // The reference's and its sources' images and, in geometric stages, the sources' depth
 // maps of the input stage (a source without them is left out, with a warning).
 void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage, const DenseWorkspace& workspace,
@@ -49,7 +58,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
 // reference (BuildPlanarPrior keeps those outside its image). They pass a stricter test than
 // the reference's own, as the reference cannot check them: photometric cost below
 // source_max_photo_cost and, with the texture-adaptive prior, a window of the finest scale
-// that is not plain.
+// that is not plain. options.max_vertex_bend applies as to the reference's own.
 std::vector<PlanarPriorVertex> SourceViewVertices(const StagePlan& stage, const std::string& input_stage,
                                                   const PlanarPriorOptions& options, bool adaptive,
                                                   StageStore* store, const StageReference& ref) {
@@ -63,15 +72,16 @@ std::vector<PlanarPriorVertex> SourceViewVertices(const StagePlan& stage, const 
     const kernels::PatchMatchResult result = store->ReadState(src, input_stage);
     const kernels::Camera& camera = problem.sources[k].camera;
     const std::vector<float> depth = ResultDepth(result, camera, 0.f, std::numeric_limits<float>::max());
-    std::vector<uint8_t> plain;
+    std::vector<uint8_t> excluded;  // pixels that are no vertices
     if (adaptive) {
       // ref.images holds the reference first, then the sources in problem.sources' order.
-      plain = kernels::PlainWindowMaskCpu(problem.sources[k].image, kernels::WindowForScale(0),
-                                          EstimateNoiseVariance(*ref.images[k + 1]), stage.schedule.num_threads);
+      excluded = kernels::PlainWindowMaskCpu(problem.sources[k].image, kernels::WindowForScale(0),
+                                             EstimateNoiseVariance(*ref.images[k + 1]), stage.schedule.num_threads);
     }
+    ExcludeBentDepths(camera.width, camera.height, depth, options.max_vertex_bend, &excluded);
     const std::vector<PlanarPriorVertex> own =
         SelectPriorVertices(camera.width, camera.height, depth, result.photo_cost, result.geo_error, source_options,
-                            &result.plane, plain.empty() ? nullptr : &plain);
+                            &result.plane, excluded.empty() ? nullptr : &excluded);
     const std::vector<PlanarPriorVertex> seen = TransferPriorVertices(camera, problem.ref_camera, own);
     vertices.insert(vertices.end(), seen.begin(), seen.end());
   }
@@ -88,22 +98,26 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   const std::vector<float> depth = ResultDepth(ref->input, problem.ref_camera, p.depth_min, p.depth_max);
   // With the texture-adaptive prior, pixels whose grey window of the middle mPM scale is
   // plain are no vertices (kernels/DESIGN.md 17).
-  std::vector<uint8_t> plain;
+  std::vector<uint8_t> excluded;  // pixels that are no vertices
   const bool adaptive = kernels::TextureAdaptivePrior(problem.ref_noise_variance, stage.schedule.prior_beta);
   if (adaptive) {
     constexpr int kVertexTextureScale = 1;
     const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
     kernels::ImageView grey = problem.ref_image;
     grey.chroma = nullptr;  // colour edges split the bilateral window, yet are texture
-    plain = kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(std::min(kVertexTextureScale, coarsest)),
-                                        problem.ref_noise_variance, stage.schedule.num_threads);
+    excluded = kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(std::min(kVertexTextureScale, coarsest)),
+                                           problem.ref_noise_variance, stage.schedule.num_threads);
   }
+  // Vertices where the depth bends (kernels/DESIGN.md 25): gp, from an estimate that
+  // followed no prior yet.
+  if (!stage.prior_geometric_selection || BuildsOnPrior(plan.pipeline, stage.input)) options.max_vertex_bend = 0.f;
+  ExcludeBentDepths(problem.ref_camera.width, problem.ref_camera.height, depth, options.max_vertex_bend, &excluded);
   std::vector<PlanarPriorVertex> source_vertices;
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
   if (use_sources) source_vertices = SourceViewVertices(stage, input_stage, options, adaptive, store, *ref);
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
                                 p.depth_min, p.depth_max, options, &ref->input.plane,
-                                plain.empty() ? nullptr : &plain, use_sources ? &source_vertices : nullptr);
+                                excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;

@@ -72,6 +72,7 @@ std::string StateOptionsText(const MpMvsOptions& o) {
     << "\nprior_max_geom_error " << o.prior_max_geom_error << "\nprior_max_cost_acmp " << o.prior_max_cost_acmp
     << "\nprior_cell_size " << o.prior_cell_size << "\nprior_points_per_cell " << o.prior_points_per_cell
     << "\nprior_plane_vote " << o.prior_plane_vote << "\nprior_source_vertices " << o.prior_source_vertices
+    << "\nprior_vertex_bend " << o.prior_vertex_bend
     << "\nprior_beta " << o.prior_beta << "\nnoise_floor "
     << o.noise_floor << "\nrefinement_rho " << o.refinement_rho << "\ndepth_check_views " << o.depth_check_views << "\nchroma_weight " << o.chroma_weight
     << "\nmax_source_images " << o.max_source_images << "\nseed " << o.seed << "\n";
