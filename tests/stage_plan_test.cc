@@ -78,6 +78,8 @@ TEST(StagePlan, PriorRoundsAndVertexBendAreChecked) {
   EXPECT_NE(error.find("prior_vertex_bend"), std::string::npos) << error;
   options.prior_vertex_bend = std::nan("");
   EXPECT_FALSE(options.Check(&error));
+  options.prior_vertex_bend = 1.5;
+  EXPECT_FALSE(options.Check(&error));
   options.prior_vertex_bend = 0;  // off: the paper
   EXPECT_TRUE(options.Check(&error)) << error;
 }

@@ -30,7 +30,8 @@ struct PlanarPriorOptions {
   // Geometric selection from an estimate that followed no prior yet: a pixel where the depth
   // map bends (BentDepthMask over +-kVertexBendStep px) by more than this is no vertex, as a
   // surface in front bleeds its depth onto the background beside it (kernels/DESIGN.md 25).
-  // 0: off (the paper).
+  // 0: off (the paper). The caller applies it: it marks those pixels in the excluded mask
+  // that BuildPlanarPrior and SelectPriorVertices take.
   float max_vertex_bend = 0.01f;
 };
 
@@ -54,8 +55,8 @@ struct PlanarPriorModel {
 // depth (W*H, 0 = none), photo_cost and geo_error (W*H) describe the reference image's
 // current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
 // label. excluded (W*H, optional): 1 on pixels that are never vertices (plain windows,
-// kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices of other views in this camera
-// (TransferPriorVertices); those outside the image, within half its size of its border and
+// kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
+// of other views in this camera (TransferPriorVertices); those outside the image, within half its size of its border and
 // inside [depth_min, depth_max], join the selected ones, at most points_per_cell per cell.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,

@@ -35,7 +35,7 @@ uint64_t StateChecksum(const FloatMap& state);
 // Revision of the per-pixel math and the prior's construction: bumped whenever a change
 // alters the states, so that a rerun with a newer mp-mvs recomputes older states instead
 // of resuming from them.
-constexpr int kStateMathRevision = 6;
+constexpr int kStateMathRevision = 7;
 
 // The options that change a stage's result (all --MPMVS.* but overwrite and
 // write_pictures; image size, depth range and sources enter the inputs hash instead;
