@@ -56,8 +56,9 @@ struct PlanarPriorModel {
 // current estimate. Pixels whose prior depth falls outside [depth_min, depth_max] get no
 // label. excluded (W*H, optional): 1 on pixels that are never vertices (plain windows,
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
-// of other views in this camera (TransferPriorVertices); those outside the image, within half its size of its border and
-// inside [depth_min, depth_max], join the selected ones, at most points_per_cell per cell.
+// of other views in this camera (TransferPriorVertices); those outside the image, within
+// half its size of its border and inside [depth_min, depth_max], join the selected ones,
+// at most points_per_cell per cell.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
