@@ -89,6 +89,10 @@ class CpuPasses {
     state_.photo_cost = result->photo_cost.data();
     state_.geo_error = result->geo_error.data();
     state_.view_mask = result->view_mask.data();
+    if (schedule.settled_skips > 0) {
+      skips_left_.assign(static_cast<size_t>(width_) * height_, 0);
+      state_.skips_left = skips_left_.data();
+    }
   }
 
   void Initialize(const PassParams& params) {
@@ -129,6 +133,7 @@ class CpuPasses {
   const int threads_;
   const int width_, height_;
   PixelState state_;
+  std::vector<uint8_t> skips_left_;  // PixelState::skips_left
   std::chrono::steady_clock::time_point start_;
   uint64_t evaluations_ = 0;
 };

@@ -104,7 +104,7 @@ class CudaSession::Impl {
   void Execute(const PatchMatchProblem& problem, DeviceProblem* dp);
   void UploadAhead(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule);
   void DropAhead();
-  PixelState ReserveState(int width, int height);
+  PixelState ReserveState(int width, int height, bool settled_skips);
   void Download(const PatchMatchSchedule& schedule, const DevicePassBuffers& buffers,
                 const std::vector<cudaEvent_t>& events, PatchMatchResult* result);
 
@@ -227,14 +227,16 @@ void CudaSession::Impl::UploadAhead(const PatchMatchProblem& problem,
   ahead_ = Upload(problem, std::move(inputs));
 }
 
-PixelState CudaSession::Impl::ReserveState(int width, int height) {
+PixelState CudaSession::Impl::ReserveState(int width, int height, bool settled_skips) {
   const StateLayout layout = MakeStateLayout(width, height);
   const size_t plane = layout.plane_floats * sizeof(float);
   const size_t cost = layout.cost_floats * sizeof(float);
-  // plane, then three cost-sized arrays (cost, photo cost, geometric error), then the masks.
+  // plane, then three cost-sized arrays (cost, photo cost, geometric error), then the masks,
+  // then the skip counts (zeroed by the initialisation kernel).
   size_t offsets[5] = {0, AlignUp(plane)};
   for (int k = 2; k < 5; ++k) offsets[k] = offsets[k - 1] + AlignUp(cost);
-  const size_t total = offsets[4] + layout.mask_words * sizeof(uint32_t);
+  const size_t skips = offsets[4] + AlignUp(layout.mask_words * sizeof(uint32_t));
+  const size_t total = skips + (settled_skips ? layout.skip_bytes : 0);
   PixelState state;
   if (layout.num_pixels == 0) return state;
   // Stream ordered on the compute stream: the previous run's kernels are its only users.
@@ -245,6 +247,7 @@ PixelState CudaSession::Impl::ReserveState(int width, int height) {
   state.photo_cost = reinterpret_cast<float*>(base + offsets[2]);
   state.geo_error = reinterpret_cast<float*>(base + offsets[3]);
   state.view_mask = reinterpret_cast<uint32_t*>(base + offsets[4]);
+  if (settled_skips) state.skips_left = reinterpret_cast<uint8_t*>(base + skips);
   return state;
 }
 
@@ -284,7 +287,7 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
   const cudaStream_t compute = compute_.get();
   const int total = static_cast<int>(schedule.iterations.size());
   DevicePassBuffers buffers;
-  buffers.state = ReserveState(W, H);
+  buffers.state = ReserveState(W, H, schedule.settled_skips > 0);
   buffers.init_plane = current->init_plane;
   buffers.init_cost = current->init_cost;
   counters_.Reserve(NumNccCounters(total) * sizeof(unsigned long long), alloc_, compute);

@@ -87,6 +87,7 @@ struct StateLayout {
   size_t cost_floats = 0;   // cost, photo_cost, geo_error (and init cost) entries
   size_t mask_words = 0;    // view_mask entries
   size_t label_bytes = 0;   // prior label entries
+  size_t skip_bytes = 0;    // PixelState::skips_left entries
 };
 
 inline StateLayout MakeStateLayout(int width, int height) {
@@ -97,6 +98,7 @@ inline StateLayout MakeStateLayout(int width, int height) {
   l.cost_floats = l.num_pixels;
   l.mask_words = l.num_pixels;
   l.label_bytes = l.num_pixels;
+  l.skip_bytes = l.num_pixels;
   return l;
 }
 

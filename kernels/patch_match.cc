@@ -14,6 +14,7 @@ void PatchMatchSchedule::Check() const {
   }
   if (geom_lambda < 0.f) fail("geometric weight must be >= 0");
   if (geom_max_error <= 0.f) fail("geometric clamp must be > 0");
+  if (settled_skips < 0 || settled_skips > 255) fail("settled pixel skips must be in [0, 255]");
   if (refinement_rho <= 0.f || refinement_rho >= 1.f) fail("refinement rho must be in (0, 1)");
   if (tau0 <= 0.f || tau_alpha <= 0.f) fail("tau0 and alpha must be > 0");
   if (prior_beta <= 0.f || prior_sigma_normal_deg <= 0.f) fail("prior sigmas must be > 0");
@@ -61,6 +62,7 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
   p.geom_max_error = schedule.geom_max_error;
   p.noise_variance = schedule.noise_floor ? problem.ref_noise_variance : 0.f;
   p.use_prior = schedule.use_prior;
+  p.settled_skips = schedule.settled_skips;
   p.prior.plane = problem.prior_plane;
   p.prior.label = problem.prior_label;
   p.prior.gamma = schedule.prior_gamma;
@@ -91,6 +93,8 @@ void SetCheckerboardPass(const PatchMatchSchedule& schedule, int iteration, int 
   params->window = WindowForScale(spec.window_scale);
   params->view_selection.good_threshold =
       GoodMatchThreshold(spec.tau_index, schedule.tau0, schedule.tau_alpha);
+  params->new_window_scale =
+      iteration > 0 && schedule.iterations[iteration - 1].window_scale != spec.window_scale;
   params->color = color;
   params->rng_iteration = PassStream(schedule, static_cast<uint32_t>(1 + 2 * iteration + color));
 }

@@ -69,6 +69,9 @@ struct PatchMatchSchedule {
   float prior_beta = 0.18f;
   float prior_sigma_normal_deg = 5.f;
   float refinement_rho = 0.02f;
+  // Updates a pixel skips after an update that left its plane settled (PassParams::
+  // settled_skips, kernels/DESIGN.md 27); 0: none (the paper).
+  int settled_skips = 0;
   float tau0 = 0.8f;
   float tau_alpha = 90.f;
   uint64_t seed = 0;

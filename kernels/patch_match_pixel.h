@@ -31,6 +31,10 @@ struct PixelState {
   float* photo_cost = nullptr;  // m_p of the current plane
   float* geo_error = nullptr;   // m_g: weighted mean clamped reprojection error (px)
   uint32_t* view_mask = nullptr;
+  // Updates each pixel still skips because its plane has settled (SettledPlane); nullptr when
+  // PassParams::settled_skips is 0. Zeroed by the initialisation pass, so it never outlives
+  // a run: nothing of it is carried between stages (kernels/DESIGN.md 27).
+  uint8_t* skips_left = nullptr;
 };
 
 // Planar prior per pixel: label != 0 where a triangle covers the pixel.
@@ -71,6 +75,12 @@ struct PassParams {
   uint32_t rng_iteration = 0;  // unique per pass and stage, for the random streams
   int color = 0;                // checkerboard colour being updated: (u + v) % 2 == color
   int init_top_k = 4;
+  // A pixel whose update left its plane settled skips its next settled_skips updates
+  // (SettledPlane; kernels/DESIGN.md 27). 0: every pixel is updated in every pass (the paper).
+  int settled_skips = 0;
+  // The pass's iteration is the first at its window scale after a larger one (mPM): the
+  // stored costs are the larger window's, so every pixel is updated and no skip carries over.
+  bool new_window_scale = false;
 };
 
 // ---------------------------------------------------------------------------------------
@@ -382,6 +392,7 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
                                      int v, uint32_t* num_ncc) {
   const int W = params.ref_camera.width;
   const int idx = v * W + u;
+  if (state.skips_left) state.skips_left[idx] = 0;
   const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
   RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
   Plane plane{Vec3{0.f, 0.f, -1.f}, 0.f};
@@ -430,6 +441,18 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
   StorePlane(state.plane, idx, plane);
   InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
                    &state.geo_error[idx], &state.view_mask[idx], num_ncc);
+}
+
+// Whether an update that took a pixel's plane from `before` to `after` left it settled: its
+// depth moved by at most 0.5 % and its normal by at most 3 degrees. Such moves are what
+// random refinement keeps finding on a converged surface (a slightly better fit of the same
+// window): a few updates of it change the depth well inside the 1 % that the evaluation and
+// stereo_fusion tolerate, so skipping them costs no accuracy (kernels/DESIGN.md 27).
+MPMVS_HD MPMVS_FORCE_INLINE bool SettledPlane(const Plane& before, const Plane& after, Vec3 ray) {
+  constexpr float kMaxDepthChange = 0.005f;
+  constexpr float kMinNormalCos = 0.99862953f;  // cos(3 degrees)
+  const float d0 = PlaneDepth(before, ray), d1 = PlaneDepth(after, ray);
+  return fabsf(d1 - d0) <= kMaxDepthChange * d0 && Dot(before.n, after.n) >= kMinNormalCos;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -692,6 +715,16 @@ template <class Ncc>
 MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& state, int u, int v,
                                  uint32_t* num_ncc) {
   const int idx = v * params.ref_camera.width + u;
+  // Only this pixel's own update reads or writes its skip count: no races, and the result
+  // does not depend on the order or the number of threads.
+  if (state.skips_left && state.skips_left[idx] > 0) {
+    if (params.new_window_scale) {
+      state.skips_left[idx] = 0;
+    } else {
+      --state.skips_left[idx];
+      return;
+    }
+  }
   const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
   RandomStream rng(params.seed, params.image_id, static_cast<uint32_t>(idx), params.rng_iteration);
   RefPatch patch;
@@ -717,8 +750,12 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
                  costs);
   Hypothesis current = StoredHypothesis<Ncc>(params, state, patch, weights, cand, costs, prior, u,
                                              v, ray, num_ncc);
+  const Plane before = current.plane;
   AdoptBestCandidate(params, cand, costs, prior, ray, selected, &current);
   Refine<Ncc>(params, patch, weights, prior, u, v, ray, &rng, &current, num_ncc);
+  if (state.skips_left && SettledPlane(before, current.plane, ray)) {
+    state.skips_left[idx] = static_cast<uint8_t>(params.settled_skips);
+  }
 
   StorePlane(state.plane, idx, current.plane);
   state.cost[idx] = current.cost.total;

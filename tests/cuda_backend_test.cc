@@ -187,6 +187,7 @@ PatchMatchSchedule MakeSchedule() {
   }
   schedule.seed = 7;
   schedule.stage_id = 1;
+  schedule.settled_skips = 2;  // as the pipeline's default: the GPU must skip the same
   return schedule;
 }
 
@@ -211,16 +212,21 @@ double DepthAgreement(const PatchMatchProblem& problem, const PatchMatchResult& 
 
 void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& other) {
   ASSERT_EQ(other.iterations.size(), cpu.iterations.size());
+  double total_cpu = 0, total_other = 0;
   for (size_t i = 0; i < cpu.iterations.size(); ++i) {
     EXPECT_EQ(other.iterations[i].window_scale, cpu.iterations[i].window_scale);
     EXPECT_EQ(other.iterations[i].window_side, cpu.iterations[i].window_side);
     EXPECT_EQ(other.iterations[i].pattern, cpu.iterations[i].pattern);
     EXPECT_EQ(other.iterations[i].tau, cpu.iterations[i].tau);
-    // Float rounding may flip a few decisions (e.g. reuse of a duplicate candidate's cost).
+    // Float rounding may flip a few decisions (e.g. reuse of a duplicate candidate's cost,
+    // or whether a plane has settled, which decides a pixel's next two updates).
     const double n = static_cast<double>(cpu.iterations[i].ncc_evaluations);
-    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.02 * n)
+    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.06 * n)
         << "iteration " << i;
+    total_cpu += n;
+    total_other += static_cast<double>(other.iterations[i].ncc_evaluations);
   }
+  EXPECT_NEAR(total_other, total_cpu, 0.02 * total_cpu);
   EXPECT_EQ(other.init_ncc_evaluations, cpu.init_ncc_evaluations);  // no decisions in init
 }
 
@@ -268,8 +274,10 @@ void RunCudaPassesOnHost(const PatchMatchProblem& problem, const PatchMatchSched
   ResetResult(problem.ref_camera.width, problem.ref_camera.height, result);
   const int total = static_cast<int>(schedule.iterations.size());
   HostLaunch launch;
+  std::vector<uint8_t> skips_left(result->cost.size(), 0xff);  // the kernels must zero them
   launch.state = PixelState{result->plane.data(), result->cost.data(), result->photo_cost.data(),
-                            result->geo_error.data(), result->view_mask.data()};
+                            result->geo_error.data(), result->view_mask.data(),
+                            schedule.settled_skips > 0 ? skips_left.data() : nullptr};
   launch.init_plane = problem.init_plane;
   launch.init_cost = problem.init_cost;
   launch.counters.assign(NumNccCounters(total), 0);

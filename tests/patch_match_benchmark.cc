@@ -177,8 +177,9 @@ BENCHMARK(BM_ScalingSweep)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime
 // Arg 0: the ACMH baseline of issue 4 (ablation row "ACMH": 11 px windows, ACMH pattern, no
 // prior; photometric + two geometric passes), the "under 5 s on 2 cores" target.
 // Arg 1: the default MP-MVS pipeline (6 stages, 21 iterations: two prior rounds).
+// Arg 2: the same with --MPMVS.settled_pixel_skips 2 (kernels/DESIGN.md 27).
 void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
-  const bool mpmvs = state.range(0) == 1;
+  const bool mpmvs = state.range(0) >= 1;
   const std::string dataset = std::string(MPMVS_SHARED_DATA_DIR) + "/middlebury2014_adirondack";
   if (!fs::is_directory(dataset) || !ColmapAvailable()) {
     state.SkipWithError("needs ../shared/data/middlebury2014_adirondack and colmap");
@@ -204,13 +205,14 @@ void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
       run.options.distant_sampling = false;
       run.options.planar_prior = "none";
     }
+    if (state.range(0) == 2) run.options.settled_pixel_skips = 2;
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     seconds += summary.seconds;
   }
   state.counters["s_whole_run"] = seconds / state.iterations();
   state.counters["peak_MiB"] = PeakMemoryMiB();
 }
-BENCHMARK(BM_MiddleburyTwoViewPipeline)->ArgName("mpmvs")->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_MiddleburyTwoViewPipeline)->ArgName("mpmvs")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
 }  // namespace mpmvs

@@ -50,12 +50,15 @@ PatchMatchSchedule MultiScaleSchedule(int max_scale, int per_scale) {
   return schedule;
 }
 
-TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
-  const int W = 160, H = 120;
-  const PlaneScene scene = MakeScene(W, H, 2.f);
-  const PatchMatchProblem problem = MakeProblem(scene);
-  PatchMatchResult result;
-  RunPatchMatchCpu(problem, MultiScaleSchedule(2, 3), &result);
+struct PlaneRecovery {
+  int considered = 0;   // pixels seen by at least one source view
+  double depth_ratio = 0;   // of them, depth within 0.5 %
+  double normal_ratio = 0;  // normal within 5 degrees
+};
+
+PlaneRecovery MeasureRecovery(const PlaneScene& scene, const PatchMatchProblem& problem,
+                              const PatchMatchResult& result) {
+  const int W = problem.ref_camera.width, H = problem.ref_camera.height;
   std::vector<float> depth, normal;
   ExtractDepthNormalMaps(problem, result, &depth, &normal);
   const Vec3 n_gt = MatVec(scene.cameras[0].R, scene.plane_normal);
@@ -82,9 +85,23 @@ TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
       if (Dot(n, n_gt) > std::cos(5.f * kPi / 180.f)) ++good_normal;
     }
   }
+  PlaneRecovery r;
+  r.considered = considered;
+  r.depth_ratio = considered > 0 ? double(good_depth) / considered : 0.0;
+  r.normal_ratio = considered > 0 ? double(good_normal) / considered : 0.0;
+  return r;
+}
+
+TEST(PatchMatchCpu, TiltedTexturedPlaneIsRecovered) {
+  const int W = 160, H = 120;
+  const PlaneScene scene = MakeScene(W, H, 2.f);
+  const PatchMatchProblem problem = MakeProblem(scene);
+  PatchMatchResult result;
+  RunPatchMatchCpu(problem, MultiScaleSchedule(2, 3), &result);
+  const PlaneRecovery recovery = MeasureRecovery(scene, problem, result);
+  const int considered = recovery.considered;
+  const double depth_ratio = recovery.depth_ratio, normal_ratio = recovery.normal_ratio;
   ASSERT_GT(considered, W * H / 3);
-  const double depth_ratio = double(good_depth) / considered;
-  const double normal_ratio = double(good_normal) / considered;
   RecordProperty("depth_within_0.5pct", std::to_string(depth_ratio));
   std::printf("tilted plane: %.2f%% depth within 0.5%%, %.2f%% normals within 5 deg (%d px)\n",
               100 * depth_ratio, 100 * normal_ratio, considered);
@@ -105,18 +122,67 @@ TEST(PatchMatchCpu, DeterministicAcrossThreadCounts) {
   const int W = 64, H = 48;
   const PlaneScene scene = MakeScene(W, H, 1.f);
   const PatchMatchProblem problem = MakeProblem(scene);
-  PatchMatchSchedule schedule = MultiScaleSchedule(1, 1);
-  PatchMatchResult a, b;
-  schedule.num_threads = 1;
-  RunPatchMatchCpu(problem, schedule, &a);
-  schedule.num_threads = 2;
-  RunPatchMatchCpu(problem, schedule, &b);
-  EXPECT_EQ(a.plane, b.plane);
-  EXPECT_EQ(a.cost, b.cost);
-  schedule.seed = 43;
-  PatchMatchResult c;
-  RunPatchMatchCpu(problem, schedule, &c);
-  EXPECT_NE(a.plane, c.plane);
+  for (int skips : {0, 2}) {
+    PatchMatchSchedule schedule = MultiScaleSchedule(1, 2);
+    schedule.settled_skips = skips;
+    PatchMatchResult a, b;
+    schedule.num_threads = 1;
+    RunPatchMatchCpu(problem, schedule, &a);
+    schedule.num_threads = 2;
+    RunPatchMatchCpu(problem, schedule, &b);
+    EXPECT_EQ(a.plane, b.plane) << "settled skips " << skips;
+    EXPECT_EQ(a.cost, b.cost) << "settled skips " << skips;
+    schedule.seed = 43;
+    PatchMatchResult c;
+    RunPatchMatchCpu(problem, schedule, &c);
+    EXPECT_NE(a.plane, c.plane) << "settled skips " << skips;
+  }
+}
+
+TEST(SettledPlane, DepthWithinHalfAPercentAndNormalWithinThreeDegrees) {
+  const Vec3 ray = Normalize(Vec3{0.1f, -0.2f, 1.f});
+  const Vec3 n = Normalize(Vec3{0.2f, 0.1f, -1.f});
+  const Plane before = PlaneFromDepthNormal(ray, 4.f, n);
+  EXPECT_TRUE(SettledPlane(before, before, ray));
+  EXPECT_TRUE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f * 1.0049f, n), ray));
+  EXPECT_TRUE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f * 0.9951f, n), ray));
+  EXPECT_FALSE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f * 1.0051f, n), ray));
+  EXPECT_FALSE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f * 0.9949f, n), ray));
+  // The normal turned about an axis perpendicular to it.
+  const Vec3 axis = Normalize(Cross(n, Vec3{1.f, 0.f, 0.f}));
+  auto turned = [&](float degrees) {
+    const float a = degrees * kPi / 180.f;
+    return Normalize(std::cos(a) * n + std::sin(a) * Cross(axis, n));
+  };
+  EXPECT_TRUE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f, turned(2.9f)), ray));
+  EXPECT_FALSE(SettledPlane(before, PlaneFromDepthNormal(ray, 4.f, turned(3.1f)), ray));
+}
+
+// Settled pixels skip updates (kernels/DESIGN.md 27): fewer NCCs, the same plane recovered.
+TEST(PatchMatchCpu, SettledPixelsSkipUpdatesWithoutLosingThePlane) {
+  const int W = 160, H = 120;
+  const PlaneScene scene = MakeScene(W, H, 2.f);
+  const PatchMatchProblem problem = MakeProblem(scene);
+  PatchMatchSchedule schedule = MultiScaleSchedule(2, 3);
+  PatchMatchResult every, skipping;
+  RunPatchMatchCpu(problem, schedule, &every);
+  schedule.settled_skips = 2;
+  RunPatchMatchCpu(problem, schedule, &skipping);
+  auto nccs = [](const PatchMatchResult& r) {
+    uint64_t n = 0;
+    for (const IterationStats& it : r.iterations) n += it.ncc_evaluations;
+    return n;
+  };
+  const PlaneRecovery a = MeasureRecovery(scene, problem, every);
+  const PlaneRecovery b = MeasureRecovery(scene, problem, skipping);
+  std::printf("every pixel in every pass: %llu NCCs, %.2f%% depths; settled pixels skip 2: %llu NCCs, %.2f%%\n",
+              static_cast<unsigned long long>(nccs(every)), 100 * a.depth_ratio,
+              static_cast<unsigned long long>(nccs(skipping)), 100 * b.depth_ratio);
+  EXPECT_LT(nccs(skipping), 0.8 * nccs(every));
+  EXPECT_GE(b.depth_ratio, a.depth_ratio - 0.005);
+  EXPECT_GE(b.normal_ratio, a.normal_ratio - 0.01);
+  // The first iteration updates every pixel: nothing has settled before it.
+  EXPECT_EQ(skipping.iterations[0].ncc_evaluations, every.iterations[0].ncc_evaluations);
 }
 
 // A 24x20 result whose every pixel holds the same slanted plane, with costs 0.5.

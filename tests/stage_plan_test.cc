@@ -84,5 +84,24 @@ TEST(StagePlan, PriorRoundsAndVertexBendAreChecked) {
   EXPECT_TRUE(options.Check(&error)) << error;
 }
 
+TEST(StagePlan, EveryPatchMatchStageSkipsSettledPixelsAsTheOptionSays) {
+  MpMvsOptions options;
+  PatchMatchStereoOptions colmap_options;
+  for (int skips : {0, 2}) {
+    options.settled_pixel_skips = skips;
+    const PipelinePlan plan = MakePipelinePlan(colmap_options, options);
+    for (const StagePlan& st : plan.stages) EXPECT_EQ(st.schedule.settled_skips, skips) << st.name;
+  }
+  std::string error;
+  options.settled_pixel_skips = -1;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_NE(error.find("settled_pixel_skips"), std::string::npos) << error;
+  options.settled_pixel_skips = 256;
+  EXPECT_FALSE(options.Check(&error));
+  options.settled_pixel_skips = 255;
+  EXPECT_TRUE(options.Check(&error)) << error;
+  EXPECT_EQ(MpMvsOptions().settled_pixel_skips, 0);  // the paper's schedule by default
+}
+
 }  // namespace
 }  // namespace mpmvs

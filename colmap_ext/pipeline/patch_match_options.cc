@@ -70,6 +70,8 @@ bool MpMvsOptions::Check(std::string* error) const {
   if (prior_beta <= 0) return Fail(error, p + "prior_beta", prior_beta, "> 0");
   if (!(prior_vertex_bend >= 0 && prior_vertex_bend <= 1))
     return Fail(error, p + "prior_vertex_bend", prior_vertex_bend, "in [0, 1]");
+  if (settled_pixel_skips < 0 || settled_pixel_skips > 255)
+    return Fail(error, p + "settled_pixel_skips", settled_pixel_skips, "in [0, 255]");
   if (refinement_rho <= 0 || refinement_rho >= 1)
     return Fail(error, p + "refinement_rho", refinement_rho, "in (0, 1)");
   if (!(chroma_weight >= 0 && chroma_weight <= 1000))

@@ -62,6 +62,11 @@ struct MpMvsOptions {
   // stages, so that noise-fitted planes do not beat consistent ones on untextured surfaces.
   bool noise_floor = true;
   double refinement_rho = 0.02;
+  // A pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips its
+  // next this many updates at the same window scale (kernels/DESIGN.md 27): a third fewer
+  // cost samples at the same Middlebury scores, but the synthetic rooms' ceilings lose, so
+  // 0 (every pixel in every pass, the paper) is the default.
+  int settled_pixel_skips = 0;
   // The written depth of a pixel must be confirmed by at least this many source views' final
   // depth maps (within 1 %, as COLMAP's stereo_fusion checks); 0: no check (the paper).
   int depth_check_views = 1;

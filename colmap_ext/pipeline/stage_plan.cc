@@ -26,6 +26,7 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   base.geom_lambda = static_cast<float>(options.geom_weight);
   base.geom_max_error = static_cast<float>(options.geom_max_error);
   base.refinement_rho = static_cast<float>(options.refinement_rho);
+  base.settled_skips = options.settled_pixel_skips;
   base.seed = static_cast<uint64_t>(options.seed);
   base.num_threads = colmap_options.num_threads;
   base.prior_beta = static_cast<float>(options.prior_beta);
