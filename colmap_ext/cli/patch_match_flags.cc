@@ -60,7 +60,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
   parser->Add(q + "settled_pixel_skips", &m->settled_pixel_skips,
               "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many "
-              "of its next updates in the stage; 0 = every pixel in every pass (paper)");
+              "of its next updates at the same window scale; 0 = every pixel in every pass (paper)");
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");
   parser->Add(q + "refinement_rho", &m->refinement_rho);
