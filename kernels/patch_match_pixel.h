@@ -78,8 +78,8 @@ struct PassParams {
   // A pixel whose update left its plane settled skips its next settled_skips updates
   // (SettledPlane; kernels/DESIGN.md 27). 0: every pixel is updated in every pass (the paper).
   int settled_skips = 0;
-  // The pass's iteration is the first at its window scale after a larger one (mPM): the
-  // stored costs are the larger window's, so every pixel is updated and no skip carries over.
+  // The pass's iteration is the first at its window scale after another scale (mPM): the
+  // stored costs are the other window's, so every pixel is updated and no skip carries over.
   bool new_window_scale = false;
 };
 

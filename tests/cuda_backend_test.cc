@@ -180,14 +180,16 @@ PatchMatchProblem MakeSceneProblem(const PlaneScene& scene) {
   return problem;
 }
 
-PatchMatchSchedule MakeSchedule() {
+// settled_skips: 0 is the default pipeline; 2 the speed option (kernels/DESIGN.md 27),
+// which the GPU must run the same.
+PatchMatchSchedule MakeSchedule(int settled_skips = 0) {
   PatchMatchSchedule schedule;
   for (int scale = 1; scale >= 0; --scale) {
     for (int t = 0; t < 4; ++t) schedule.iterations.push_back({scale, t});
   }
   schedule.seed = 7;
   schedule.stage_id = 1;
-  schedule.settled_skips = 2;  // as the pipeline's default: the GPU must skip the same
+  schedule.settled_skips = settled_skips;
   return schedule;
 }
 
@@ -210,7 +212,10 @@ double DepthAgreement(const PatchMatchProblem& problem, const PatchMatchResult& 
   return static_cast<double>(agree) / da.size();
 }
 
-void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& other) {
+// Per-iteration NCC counts agree within 2 %, or 6 % (and 2 % over the run) with settled
+// skips, where a flipped settle decision decides a pixel's next updates too.
+void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& other,
+                          bool settled_skips) {
   ASSERT_EQ(other.iterations.size(), cpu.iterations.size());
   double total_cpu = 0, total_other = 0;
   for (size_t i = 0; i < cpu.iterations.size(); ++i) {
@@ -219,9 +224,10 @@ void ExpectSameStatistics(const PatchMatchResult& cpu, const PatchMatchResult& o
     EXPECT_EQ(other.iterations[i].pattern, cpu.iterations[i].pattern);
     EXPECT_EQ(other.iterations[i].tau, cpu.iterations[i].tau);
     // Float rounding may flip a few decisions (e.g. reuse of a duplicate candidate's cost,
-    // or whether a plane has settled, which decides a pixel's next two updates).
+    // or whether a plane has settled).
     const double n = static_cast<double>(cpu.iterations[i].ncc_evaluations);
-    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n, 0.06 * n)
+    EXPECT_NEAR(static_cast<double>(other.iterations[i].ncc_evaluations), n,
+                (settled_skips ? 0.06 : 0.02) * n)
         << "iteration " << i;
     total_cpu += n;
     total_other += static_cast<double>(other.iterations[i].ncc_evaluations);
@@ -299,17 +305,20 @@ constexpr double kMinAgreement = 0.99;
 TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
   const PlaneScene scene = MakeTiltedPlaneScene(128, 96);
   const PatchMatchProblem problem = MakeSceneProblem(scene);
-  const PatchMatchSchedule schedule = MakeSchedule();
-  PatchMatchResult cpu, emulated;
-  RunPatchMatchCpu(problem, schedule, &cpu);
-  // The comparison means something only if the CPU result is right.
-  EXPECT_GE(GroundTruthAgreement(scene, problem, cpu), 0.98);
-  RunCudaPassesOnHost(problem, schedule, &emulated);
-  const double agreement = DepthAgreement(problem, cpu, emulated, kDepthTolerance);
-  std::printf("host-emulated CUDA passes vs CPU backend: %.2f%% of depths within 0.1%%\n",
-              100 * agreement);
-  EXPECT_GE(agreement, kMinAgreement);
-  ExpectSameStatistics(cpu, emulated);
+  for (int skips : {0, 2}) {
+    SCOPED_TRACE("settled skips " + std::to_string(skips));
+    const PatchMatchSchedule schedule = MakeSchedule(skips);
+    PatchMatchResult cpu, emulated;
+    RunPatchMatchCpu(problem, schedule, &cpu);
+    // The comparison means something only if the CPU result is right.
+    EXPECT_GE(GroundTruthAgreement(scene, problem, cpu), 0.98);
+    RunCudaPassesOnHost(problem, schedule, &emulated);
+    const double agreement = DepthAgreement(problem, cpu, emulated, kDepthTolerance);
+    std::printf("host-emulated CUDA passes vs CPU backend, settled skips %d: %.2f%% of depths within 0.1%%\n",
+                skips, 100 * agreement);
+    EXPECT_GE(agreement, kMinAgreement);
+    ExpectSameStatistics(cpu, emulated, skips > 0);
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -351,26 +360,29 @@ TEST(CudaBackend, MatchesCpuBackendOnTiltedPlane) {
   if (!CudaDeviceAvailable(0, &why)) GTEST_SKIP() << "no usable CUDA device: " << why;
   const PlaneScene scene = MakeTiltedPlaneScene(128, 96);
   const PatchMatchProblem problem = MakeSceneProblem(scene);
-  const PatchMatchSchedule schedule = MakeSchedule();
-  PatchMatchResult cpu, gpu;
-  RunPatchMatchCpu(problem, schedule, &cpu);
-  std::vector<int> progress;
-  RunPatchMatchCuda(problem, schedule, 0, &gpu, [&](int done, int total) {
-    EXPECT_EQ(total, static_cast<int>(schedule.iterations.size()));
-    progress.push_back(done);
-  });
-  ASSERT_EQ(gpu.width, cpu.width);
-  ASSERT_EQ(gpu.height, cpu.height);
-  ASSERT_EQ(gpu.plane.size(), cpu.plane.size());
-  ASSERT_EQ(gpu.view_mask.size(), cpu.view_mask.size());
-  ASSERT_EQ(progress.size(), schedule.iterations.size());
-  for (size_t i = 0; i < progress.size(); ++i) EXPECT_EQ(progress[i], static_cast<int>(i + 1));
-  const double agreement = DepthAgreement(problem, cpu, gpu, kDepthTolerance);
-  std::printf("CUDA vs CPU backend: %.2f%% of depths within 0.1%%\n", 100 * agreement);
-  EXPECT_GE(agreement, kMinAgreement);
-  EXPECT_GE(GroundTruthAgreement(scene, problem, gpu), 0.98);
-  ExpectSameStatistics(cpu, gpu);
-  for (const IterationStats& stats : gpu.iterations) EXPECT_GE(stats.seconds, 0.0);
+  for (int skips : {0, 2}) {
+    SCOPED_TRACE("settled skips " + std::to_string(skips));
+    const PatchMatchSchedule schedule = MakeSchedule(skips);
+    PatchMatchResult cpu, gpu;
+    RunPatchMatchCpu(problem, schedule, &cpu);
+    std::vector<int> progress;
+    RunPatchMatchCuda(problem, schedule, 0, &gpu, [&](int done, int total) {
+      EXPECT_EQ(total, static_cast<int>(schedule.iterations.size()));
+      progress.push_back(done);
+    });
+    ASSERT_EQ(gpu.width, cpu.width);
+    ASSERT_EQ(gpu.height, cpu.height);
+    ASSERT_EQ(gpu.plane.size(), cpu.plane.size());
+    ASSERT_EQ(gpu.view_mask.size(), cpu.view_mask.size());
+    ASSERT_EQ(progress.size(), schedule.iterations.size());
+    for (size_t i = 0; i < progress.size(); ++i) EXPECT_EQ(progress[i], static_cast<int>(i + 1));
+    const double agreement = DepthAgreement(problem, cpu, gpu, kDepthTolerance);
+    std::printf("CUDA vs CPU backend: %.2f%% of depths within 0.1%%\n", 100 * agreement);
+    EXPECT_GE(agreement, kMinAgreement);
+    EXPECT_GE(GroundTruthAgreement(scene, problem, gpu), 0.98);
+    ExpectSameStatistics(cpu, gpu, skips > 0);
+    for (const IterationStats& stats : gpu.iterations) EXPECT_GE(stats.seconds, 0.0);
+  }
 }
 
 // A session over several reference images (device cache, uploads ahead while the previous

@@ -59,7 +59,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
               "inverse depth over +-3 px) are no vertices; 0 = off (paper)");
   parser->Add(q + "prior_beta", &m->prior_beta, "photometric weight exp(-C^2/beta) of the prior run's score; 0.18 = ACMP");
   parser->Add(q + "settled_pixel_skips", &m->settled_pixel_skips,
-              "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many "
+              "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees in normal skips this many "
               "of its next updates at the same window scale; 0 = every pixel in every pass (paper)");
   parser->Add(q + "noise_floor", &m->noise_floor,
               "floor the photometric cost at the image noise level in the geometric and prior stages; 0 = paper");

@@ -74,8 +74,10 @@ std::string StateOptionsText(const MpMvsOptions& o) {
     << "\nprior_plane_vote " << o.prior_plane_vote << "\nprior_source_vertices " << o.prior_source_vertices
     << "\nprior_vertex_bend " << o.prior_vertex_bend
     << "\nprior_beta " << o.prior_beta << "\nnoise_floor "
-    << o.noise_floor << "\nrefinement_rho " << o.refinement_rho << "\nsettled_pixel_skips " << o.settled_pixel_skips << "\ndepth_check_views " << o.depth_check_views << "\nchroma_weight " << o.chroma_weight
+    << o.noise_floor << "\nrefinement_rho " << o.refinement_rho << "\ndepth_check_views " << o.depth_check_views << "\nchroma_weight " << o.chroma_weight
     << "\nmax_source_images " << o.max_source_images << "\nseed " << o.seed << "\n";
+  // Only when on: states of the default (off, the same maps as before the option) stay valid.
+  if (o.settled_pixel_skips != 0) s << "settled_pixel_skips " << o.settled_pixel_skips << "\n";
   return s.str();
 }
 
