@@ -446,8 +446,9 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
 // Whether an update that took a pixel's plane from `before` to `after` left it settled: its
 // depth moved by at most 0.5 % and its normal by at most 3 degrees. Such moves are what
 // random refinement keeps finding on a converged surface (a slightly better fit of the same
-// window): a few updates of it change the depth well inside the 1 % that the evaluation and
-// stereo_fusion tolerate, so skipping them costs no accuracy (kernels/DESIGN.md 27).
+// window), well inside the 1 % that the evaluation and stereo_fusion tolerate. Skipping them
+// holds the Middlebury scores, but plain surfaces lose the updates that slowly spread a
+// right plane over them, hence off by default (kernels/DESIGN.md 27).
 MPMVS_HD MPMVS_FORCE_INLINE bool SettledPlane(const Plane& before, const Plane& after, Vec3 ray) {
   constexpr float kMaxDepthChange = 0.005f;
   constexpr float kMinNormalCos = 0.99862953f;  // cos(3 degrees)
