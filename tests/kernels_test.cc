@@ -169,6 +169,54 @@ TEST(KernelNcc, ChromaGuideLowersWeightsAcrossColourEdges) {
   EXPECT_NEAR(sum, 1.f, 1e-5f);
 }
 
+// A window that crosses the image border (the per-sample bounds test) weighs the samples
+// it keeps as the same window does where all of it lies inside (the direct row gather):
+// the same relative weights, zero on the samples outside; with a chroma guide too.
+TEST(KernelNcc, BorderWindowKeepsTheInsideSamplesWeights) {
+  const int W = 48, H = 40, crop_x = 8, crop_y = 6;
+  const std::vector<float> big = RandomImage(W, H, 7);
+  std::vector<float> big_chroma(2 * W * H);
+  for (size_t i = 0; i < big_chroma.size(); ++i) big_chroma[i] = static_cast<float>((i * 37) % 11);
+  // The crop starts crop_x, crop_y pixels in: windows near its top-left corner cross its border.
+  const int w = W - crop_x, h = H - crop_y;
+  std::vector<float> crop(w * h), crop_chroma(2 * w * h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int i = (y + crop_y) * W + x + crop_x;
+      crop[y * w + x] = big[i];
+      crop_chroma[2 * (y * w + x)] = big_chroma[2 * i];
+      crop_chroma[2 * (y * w + x) + 1] = big_chroma[2 * i + 1];
+    }
+  }
+  for (const bool chroma : {false, true}) {
+    ImageView whole{big.data(), W, H}, part{crop.data(), w, h};
+    if (chroma) {
+      whole.chroma = big_chroma.data();
+      part.chroma = crop_chroma.data();
+    }
+    const WindowSpec win = WindowForScale(0);
+    int crossing = 0;
+    for (int v = 0; v < 8; ++v) {
+      for (int u = 0; u < 8; ++u) {
+        RefPatch inside, border;
+        ComputeRefPatch(whole, u + crop_x, v + crop_y, win, &inside);  // all of it inside
+        ComputeRefPatch(part, u, v, win, &border);
+        float kept = 0.f;  // the inside window's weight on the samples the crop keeps
+        for (int k = 0; k < kWindowSamples; ++k) {
+          if (u + border.offset_x[k] >= 0 && v + border.offset_y[k] >= 0) kept += inside.weight[k];
+        }
+        crossing += kept < 1.f;
+        for (int k = 0; k < kWindowSamples; ++k) {
+          const bool in_crop = u + border.offset_x[k] >= 0 && v + border.offset_y[k] >= 0;
+          const float expected = in_crop ? inside.weight[k] / kept : 0.f;
+          EXPECT_NEAR(border.weight[k], expected, 1e-5f) << "chroma " << chroma << " pixel " << u << "," << v << " sample " << k;
+        }
+      }
+    }
+    EXPECT_GT(crossing, 40);  // most of these windows do cross the border
+  }
+}
+
 TEST(KernelNcc, InvalidCases) {
   const int W = 32, H = 32;
   std::vector<float> ref = RandomImage(W, H, 2);

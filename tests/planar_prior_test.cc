@@ -180,6 +180,15 @@ TEST(PlanarPrior, TrianglesAcrossADepthStepTakeAPlaneOfOneSide) {
   PlanarPriorOptions options;
   const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes);
   EXPECT_GT(model.num_voted_triangles, 0);
+  // The vote splits the triangles over threads: any split gives the same model.
+  for (const int threads : {2, 3}) {
+    PlanarPriorOptions threaded = options;
+    threaded.num_threads = threads;
+    const PlanarPriorModel same = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, threaded, &planes);
+    EXPECT_EQ(same.plane, model.plane) << threads << " threads";
+    EXPECT_EQ(same.label, model.label) << threads << " threads";
+    EXPECT_EQ(same.num_voted_triangles, model.num_voted_triangles) << threads << " threads";
+  }
   // The triangles between the two steps' vertices vote for one of the two levels: no
   // labelled pixel carries a depth in between.
   int labelled = 0;

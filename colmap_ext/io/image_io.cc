@@ -144,7 +144,9 @@ void SavePngAtomically(const std::string& path, FIBITMAP* bitmap) {
     void operator()(FIMEMORY* memory) const { FreeImage_CloseMemory(memory); }
   };
   std::unique_ptr<FIMEMORY, MemoryDeleter> memory(FreeImage_OpenMemory());
-  if (!memory || !FreeImage_SaveToMemory(FIF_PNG, bitmap, memory.get(), PNG_DEFAULT)) {
+  // zlib's fastest level: a run writes several pictures per image and stage, and level 6
+  // (PNG_DEFAULT) spent more time on them than on some stages while shrinking them little.
+  if (!memory || !FreeImage_SaveToMemory(FIF_PNG, bitmap, memory.get(), PNG_Z_BEST_SPEED)) {
     ThrowFileError(path, "PNG encoding failed" + FreeImageDetail());
   }
   BYTE* bytes = nullptr;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 
+#include "colmap_ext/util/thread_range.h"
 #include "kernels/patch_match_pixel.h"
 
 namespace mpmvs {
@@ -44,7 +45,8 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
 // frame a little in front of it no longer gathers the votes of both (kernels/DESIGN.md 26).
 std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                         const std::vector<std::array<int, 3>>& faces,
-                                        const std::vector<kernels::Plane>& own, int* num_changed) {
+                                        const std::vector<kernels::Plane>& own, int num_threads,
+                                        int* num_changed) {
   constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
   const size_t nv = vertices.size();
   std::vector<Vec3> points(nv), rays(nv);
@@ -74,51 +76,57 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
     std::sort(ring[i].begin(), ring[i].end());
     ring[i].erase(std::unique(ring[i].begin(), ring[i].end()), ring[i].end());
   }
-  std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
-  std::vector<int> voters;
-  std::vector<kernels::Plane> candidates;
   std::vector<kernels::Plane> chosen(faces.size());
-  *num_changed = 0;
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const int stamp = static_cast<int>(f);
-    voters.clear();
-    candidates.assign(1, own[f]);
-    face_stamp[f] = stamp;
-    for (int k = 0; k < 3; ++k) {
-      const int v = faces[f][k];
-      for (int r1 : ring[v]) {
-        for (int r2 : ring[r1]) {
-          if (voter_stamp[r2] != stamp) {
-            voter_stamp[r2] = stamp;
-            voters.push_back(r2);
+  std::vector<uint8_t> changed(faces.size(), 0);
+  // Each face reads the shared tables and writes only its own entries: any split over
+  // threads gives the same planes.
+  RunRangeInThreads(static_cast<int>(faces.size()), num_threads, [&](int begin, int end) {
+    std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
+    std::vector<int> voters;
+    std::vector<kernels::Plane> candidates;
+    for (int f = begin; f < end; ++f) {
+      const int stamp = f;
+      voters.clear();
+      candidates.assign(1, own[f]);
+      face_stamp[f] = stamp;
+      for (int k = 0; k < 3; ++k) {
+        const int v = faces[f][k];
+        for (int r1 : ring[v]) {
+          for (int r2 : ring[r1]) {
+            if (voter_stamp[r2] != stamp) {
+              voter_stamp[r2] = stamp;
+              voters.push_back(r2);
+            }
           }
         }
+        const Vec3& normal = vertices[v].normal;
+        if (kernels::Norm(normal) > 0.f) candidates.push_back(FacingPlane(kernels::Normalize(normal), points[v]));
+        for (int g : incident[v]) {
+          if (face_stamp[g] == stamp) continue;
+          face_stamp[g] = stamp;
+          candidates.push_back(own[g]);
+        }
       }
-      const Vec3& normal = vertices[v].normal;
-      if (kernels::Norm(normal) > 0.f) candidates.push_back(FacingPlane(kernels::Normalize(normal), points[v]));
-      for (int g : incident[v]) {
-        if (face_stamp[g] == stamp) continue;
-        face_stamp[g] = stamp;
-        candidates.push_back(own[g]);
+      int best = 0;
+      float best_votes = -1.f;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        float votes = 0.f;
+        for (int j : voters) {
+          const float z = kernels::PlaneDepth(candidates[c], rays[j]);
+          const float behind = (vertices[j].depth - z) / vertices[j].depth;
+          if (behind > -kInFront && behind < kBehind) votes += weight[j];
+        }
+        if (votes > best_votes) {
+          best = static_cast<int>(c);
+          best_votes = votes;
+        }
       }
+      chosen[f] = candidates[best];
+      changed[f] = best != 0;
     }
-    int best = 0;
-    float best_votes = -1.f;
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      float votes = 0.f;
-      for (int j : voters) {
-        const float z = kernels::PlaneDepth(candidates[c], rays[j]);
-        const float behind = (vertices[j].depth - z) / vertices[j].depth;
-        if (behind > -kInFront && behind < kBehind) votes += weight[j];
-      }
-      if (votes > best_votes) {
-        best = static_cast<int>(c);
-        best_votes = votes;
-      }
-    }
-    chosen[f] = candidates[best];
-    *num_changed += best != 0;
-  }
+  });
+  *num_changed = 0;
+  for (uint8_t c : changed) *num_changed += c;
   return chosen;
 }
 
@@ -280,7 +288,8 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
   }
   const std::vector<kernels::Plane> chosen =
-      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, &model.num_voted_triangles) : own;
+      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, options.num_threads,
+                                                         &model.num_voted_triangles) : own;
 
   for (size_t f = 0; f < faces.size(); ++f) {
     const std::array<int, 3>& idx = faces[f];

@@ -33,6 +33,8 @@ struct PlanarPriorOptions {
   // 0: off (the paper). The caller applies it: it marks those pixels in the excluded mask
   // that BuildPlanarPrior and SelectPriorVertices take.
   float max_vertex_bend = 0.01f;
+  // Threads for the plane vote (-1: all); the model does not depend on it.
+  int num_threads = 1;
 };
 
 constexpr int kVertexBendStep = 3;

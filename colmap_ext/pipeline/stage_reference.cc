@@ -92,6 +92,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
                     const std::string& input_stage, StageStore* store, StageReference* ref) {
   const ReferenceProblem& p = *ref->problem;
   PlanarPriorOptions options = plan.prior;
+  options.num_threads = stage.schedule.num_threads;
   options.selection = stage.prior_geometric_selection ? PlanarPriorOptions::Selection::kGeometric
                                                       : PlanarPriorOptions::Selection::kPhotometric;
   kernels::PatchMatchProblem& problem = ref->pm;
