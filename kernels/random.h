@@ -28,6 +28,8 @@ class RandomStream {
   }
   // Uniform in [lo, hi).
   MPMVS_HD MPMVS_FORCE_INLINE float Uniform(float lo, float hi) { return lo + (hi - lo) * Uniform(); }
+  // Moves past n draws without computing them: the stream then continues as after n calls.
+  MPMVS_HD MPMVS_FORCE_INLINE void Skip(uint32_t n) { counter_ += n; }
 
  private:
   uint64_t key_;

@@ -73,6 +73,24 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
       total = static_cast<float>(num_views);
     }
   }
+  // A single view with any probability takes every draw (each draw r lies in [0, total),
+  // and the views before it sum to 0, it to total): its weight is known without drawing.
+  // Always the case with one source view, as in two-view pairs.
+  int only = -1, num_positive = 0;
+  for (int s = 0; s < num_views; ++s) {
+    if (prob[s] > 0.f) {
+      only = s;
+      ++num_positive;
+    } else if (!(prob[s] == 0.f)) {
+      num_positive = 2;  // NaN: leave it to the draws
+    }
+  }
+  if (num_positive == 1) {
+    for (int s = 0; s < num_views; ++s) weights[s] = 0.f;
+    weights[only] = static_cast<float>(params.num_samples);
+    rng->Skip(static_cast<uint32_t>(params.num_samples));
+    return 1u << only;
+  }
   // Roulette draws. The chosen view is the first whose cumulative probability exceeds the
   // draw, i.e. the number of cumulative sums <= it: counted without branches, since the
   // draws are random and a search loop mispredicts most of them.

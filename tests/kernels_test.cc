@@ -333,12 +333,44 @@ TEST(KernelViewSelection, WeightsFollowCosts) {
   EXPECT_NE(mask2, 0u);
 }
 
+TEST(KernelViewSelection, OneLikelyViewTakesAllDrawsAndAdvancesTheStreamAsTheDrawsWould) {
+  // Only view 1 has any probability (views 0 and 2 have 3 or more bad candidates): it gets
+  // every draw without drawing, and the stream continues exactly as after the 15 draws, so
+  // refinement's random planes do not change. Also with a single source view.
+  for (int N : {3, 1}) {
+    float costs[kNumRegions * 3];
+    bool valid[kNumRegions];
+    for (int k = 0; k < kNumRegions; ++k) {
+      valid[k] = true;
+      for (int s = 0; s < N; ++s) costs[k * N + s] = (N == 1 || s == 1) ? 0.2f + 0.01f * k : 1.9f;
+    }
+    float prior[3] = {1.f, 1.f, 1.f};
+    ViewSelectionParams params;
+    RandomStream a(5, 6, 7, 8), b(5, 6, 7, 8);
+    float weights[3] = {-1.f, -1.f, -1.f};
+    const uint32_t mask = SelectViews(costs, valid, N, prior, params, &a, weights);
+    const int good = N == 1 ? 0 : 1;
+    EXPECT_EQ(mask, 1u << good);
+    for (int s = 0; s < N; ++s) EXPECT_EQ(weights[s], s == good ? 15.f : 0.f);
+    for (int i = 0; i < params.num_samples; ++i) b.Uniform();
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(a.Uniform(), b.Uniform());
+  }
+}
+
 TEST(KernelViewSelection, NeighbourPrior) {
   const uint32_t masks[4] = {0b01, 0b01, 0b11, 0b00};
   float prior[2];
   NeighbourViewPrior(masks, 4, 2, ViewSelectionParams{}, prior);
   EXPECT_FLOAT_EQ(prior[0], 0.9f * 3 + 0.1f);
   EXPECT_FLOAT_EQ(prior[1], 0.9f + 0.1f * 3);
+}
+
+TEST(KernelRandom, SkipEqualsDrawing) {
+  RandomStream a(1, 2, 3, 4), b(1, 2, 3, 4);
+  a.Skip(15);
+  for (int i = 0; i < 15; ++i) b.Uniform();
+  EXPECT_EQ(a.Uniform(), b.Uniform());
+  EXPECT_EQ(a.Uniform(0.f, 2.f), b.Uniform(0.f, 2.f));
 }
 
 TEST(KernelRandom, DeterministicAndUniform) {
