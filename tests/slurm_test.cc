@@ -142,9 +142,11 @@ TEST_F(SlurmTest, ThreeShardsGiveTheMapsOfOneProcess) {
 }
 
 TEST_F(SlurmTest, CancelledTaskIsRedoneByResubmitting) {
-  // Slower photometric stage (more iterations), so that the task is caught while it runs.
+  // A slower photometric stage (more iterations, a larger scene: about 1.5 s per image on
+  // one core), so that the task is caught while it runs; at 160 x 120 a task could finish
+  // between the check and the cancel.
   const std::string options = "--PatchMatchStereo.num_threads 1 --MPMVS.iterations_per_scale 10";
-  MakeScene(options, 160, 120);
+  MakeScene(options, 240, 180);
   ASSERT_EQ(Submit(options, tmp_ / "submit.log"), 0) << test::ReadTextFile(tmp_ / "submit.log");
   const std::string ids = JobIds(tmp_ / "ws");
   const std::string first = ids.substr(0, ids.find(','));
@@ -152,7 +154,7 @@ TEST_F(SlurmTest, CancelledTaskIsRedoneByResubmitting) {
   bool cancelled = false;
   for (int i = 0; i < 600 && !cancelled; ++i) {
     if (Queue(first + "_1").find("RUNNING") != std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(700));
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
       cancelled = test::RunCommand("scancel " + first + "_1", tmp_ / "scancel.log") == 0;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
