@@ -85,7 +85,7 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
       num_positive = 2;  // NaN: leave it to the draws
     }
   }
-  if (num_positive == 1) {
+  if (num_positive == 1 && params.num_samples > 0) {
     for (int s = 0; s < num_views; ++s) weights[s] = 0.f;
     weights[only] = static_cast<float>(params.num_samples);
     rng->Skip(static_cast<uint32_t>(params.num_samples));
