@@ -201,14 +201,15 @@ TEST(KernelNcc, BorderWindowKeepsTheInsideSamplesWeights) {
         RefPatch inside, border;
         ComputeRefPatch(whole, u + crop_x, v + crop_y, win, &inside);  // all of it inside
         ComputeRefPatch(part, u, v, win, &border);
+        bool in_crop[kWindowSamples];
         float kept = 0.f;  // the inside window's weight on the samples the crop keeps
         for (int k = 0; k < kWindowSamples; ++k) {
-          if (u + border.offset_x[k] >= 0 && v + border.offset_y[k] >= 0) kept += inside.weight[k];
+          in_crop[k] = u + border.offset_x[k] >= 0 && v + border.offset_y[k] >= 0;
+          if (in_crop[k]) kept += inside.weight[k];
         }
         crossing += kept < 1.f;
         for (int k = 0; k < kWindowSamples; ++k) {
-          const bool in_crop = u + border.offset_x[k] >= 0 && v + border.offset_y[k] >= 0;
-          const float expected = in_crop ? inside.weight[k] / kept : 0.f;
+          const float expected = in_crop[k] ? inside.weight[k] / kept : 0.f;
           EXPECT_NEAR(border.weight[k], expected, 1e-5f) << "chroma " << chroma << " pixel " << u << "," << v << " sample " << k;
         }
       }
