@@ -2,7 +2,7 @@
 // The command-line flags of mp_patch_match_stereo (both front ends).
 #include "colmap_ext/cli/option_parser.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 
 namespace mpmvs {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "colmap_ext/io/dense_workspace.h"
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 
 namespace mpmvs {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "colmap_ext/pipeline/backend.h"
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 #include "colmap_ext/pipeline/planar_prior.h"
 #include "colmap_ext/pipeline/shard.h"
 #include "colmap_ext/pipeline/stage_plan.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "colmap_ext/io/mat_io.h"
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 
 namespace mpmvs {
 

@@ -14,7 +14,7 @@
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/ply_io.h"
 #include "colmap_ext/io/sparse_model.h"
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 #include "colmap_ext/util/error.h"
 
 namespace mpmvs {

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/patch_match_options.h"
+#include "colmap_ext/options/patch_match_options.h"
 
 #include <sstream>
 
