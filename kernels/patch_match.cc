@@ -13,11 +13,11 @@ void PatchMatchSchedule::Check() const {
     if (it.tau_index < 0) fail("tau index must be >= 0");
   }
   if (geom_lambda < 0.f) fail("geometric weight must be >= 0");
-  if (geom_max_error <= 0.f) fail("geometric clamp must be > 0");
+  if (geometric && geom_max_error <= 0.f) fail("geometric clamp must be > 0");
   if (settled_skips < 0 || settled_skips > 255) fail("settled pixel skips must be in [0, 255]");
   if (refinement_rho <= 0.f || refinement_rho >= 1.f) fail("refinement rho must be in (0, 1)");
   if (tau0 <= 0.f || tau_alpha <= 0.f) fail("tau0 and alpha must be > 0");
-  if (prior_beta <= 0.f || prior_sigma_normal_deg <= 0.f) fail("prior sigmas must be > 0");
+  if (use_prior && (prior_beta <= 0.f || prior_sigma_normal_deg <= 0.f)) fail("prior sigmas must be > 0");
 }
 
 std::vector<SourceView> MakeSourceViews(const PatchMatchProblem& problem) {

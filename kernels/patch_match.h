@@ -60,23 +60,27 @@ struct PatchMatchSchedule {
   std::vector<IterationSpec> iterations;
   PatternKind pattern = PatternKind::kDistant;
   bool geometric = false;
-  float geom_lambda = 0.2f;
-  float geom_max_error = 2.0f;
-  // Floor the photometric cost at the reference's noise level (PassParams::noise_variance).
-  bool noise_floor = false;
   bool use_prior = false;
-  float prior_gamma = 0.5f;
-  float prior_beta = 0.18f;
-  float prior_sigma_normal_deg = 5.f;
-  float refinement_rho = 0.02f;
+  // The values of user options come from the run's plan (colmap_ext/options declares them
+  // with their defaults); they have none here, and Check() refuses the zeros of those that
+  // must be set.
+  float geom_lambda = 0.f;     // --MPMVS.geom_weight
+  float geom_max_error = 0.f;  // --MPMVS.geom_max_error (px)
+  // Floor the photometric cost at the reference's noise level (PassParams::noise_variance).
+  bool noise_floor = false;    // --MPMVS.noise_floor
+  float prior_beta = 0.f;      // --MPMVS.prior_beta
+  float refinement_rho = 0.f;  // --MPMVS.refinement_rho
   // Updates a pixel skips after an update that left its plane settled (PassParams::
   // settled_skips, kernels/DESIGN.md 27); 0: none (the paper).
-  int settled_skips = 0;
+  int settled_skips = 0;       // --MPMVS.settled_pixel_skips
+  uint64_t seed = 0;           // --MPMVS.seed
+  int num_threads = -1;        // --PatchMatchStereo.num_threads (CPU backend: -1 = all cores)
+  uint32_t stage_id = 0;       // distinguishes the random streams of different stages
+  // Constants of the method (ACMP's prior, ACMH's good-match threshold), not options.
+  float prior_gamma = 0.5f;
+  float prior_sigma_normal_deg = 5.f;
   float tau0 = 0.8f;
   float tau_alpha = 90.f;
-  uint64_t seed = 0;
-  uint32_t stage_id = 0;  // distinguishes the random streams of different stages
-  int num_threads = -1;   // CPU backend: -1 = all cores
 
   // Throws std::invalid_argument with a message when inconsistent.
   void Check() const;

@@ -62,8 +62,8 @@ struct PassParams {
   RefinementParams refinement;
   float depth_min = 0.f, depth_max = 1.f;
   bool geometric = false;
-  float geom_lambda = 0.2f;
-  float geom_max_error = 2.0f;
+  float geom_lambda = 0.f;     // from PatchMatchSchedule (MakePassParams)
+  float geom_max_error = 0.f;
   // Image noise variance of the reference (grey levels^2); 0: off. A window whose variance
   // is not far above it cannot score a plane better than noise does, so the aggregated
   // photometric cost is floored at noise_variance / window variance (kernels/DESIGN.md 14).

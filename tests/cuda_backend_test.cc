@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/kernel_schedule_util.h"
 #include "kernels/cuda_passes.h"
 #include "kernels/cuda_session.h"
 #include "kernels/launch_layout.h"
@@ -183,7 +184,7 @@ PatchMatchProblem MakeSceneProblem(const PlaneScene& scene) {
 // settled_skips: 0 is the default pipeline; 2 the speed option (kernels/DESIGN.md 27),
 // which the GPU must run the same.
 PatchMatchSchedule MakeSchedule(int settled_skips = 0) {
-  PatchMatchSchedule schedule;
+  PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   for (int scale = 1; scale >= 0; --scale) {
     for (int t = 0; t < 4; ++t) schedule.iterations.push_back({scale, t});
   }

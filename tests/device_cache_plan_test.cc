@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "tests/kernel_schedule_util.h"
 #include "kernels/device_cache_plan.h"
 
 namespace mpmvs {
@@ -356,7 +357,7 @@ struct ListedProblem {
 
 TEST(DeviceCachePlan, ListsInputsWithCacheKeysFromTheProblem) {
   ListedProblem lp;
-  PatchMatchSchedule geometric_prior;
+  PatchMatchSchedule geometric_prior = mpmvs::test::ScheduleWithOptionDefaults();
   geometric_prior.geometric = true;
   geometric_prior.use_prior = true;
   const std::vector<DeviceInput> inputs = ListDeviceInputs(lp.problem, geometric_prior);
@@ -382,7 +383,7 @@ TEST(DeviceCachePlan, ListsInputsWithCacheKeysFromTheProblem) {
   EXPECT_EQ(inputs[2].host, lp.depth.data());
 
   // A photometric schedule has no depth maps and no prior.
-  PatchMatchSchedule photometric;
+  PatchMatchSchedule photometric = mpmvs::test::ScheduleWithOptionDefaults();
   EXPECT_EQ(ListDeviceInputs(lp.problem, photometric).size(), 6u);
   // An input without host data is refused before any plan records an entry for it.
   ListedProblem missing_depth;
@@ -430,12 +431,12 @@ TEST(DeviceCachePlan, ListsInputsWithCacheKeysFromTheProblem) {
 
 TEST(DeviceCachePlan, SameDeviceInputsComparesKeysSizesAndHostMemory) {
   ListedProblem lp;
-  PatchMatchSchedule schedule;
+  PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   const std::vector<DeviceInput> a = ListDeviceInputs(lp.problem, schedule);
   EXPECT_TRUE(SameDeviceInputs(a, ListDeviceInputs(lp.problem, schedule)));
   ListedProblem other;  // same ids and sizes, other host memory
   EXPECT_FALSE(SameDeviceInputs(a, ListDeviceInputs(other.problem, schedule)));
-  PatchMatchSchedule geometric;
+  PatchMatchSchedule geometric = mpmvs::test::ScheduleWithOptionDefaults();
   geometric.geometric = true;
   EXPECT_FALSE(SameDeviceInputs(a, ListDeviceInputs(lp.problem, geometric)));
 }

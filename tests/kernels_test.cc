@@ -10,6 +10,7 @@
 #include <set>
 #include <vector>
 
+#include "tests/kernel_schedule_util.h"
 #include "kernels/ncc_simd.h"
 #include "kernels/depth_segments.h"
 #include "kernels/patch_match.h"
@@ -466,7 +467,7 @@ TEST(KernelPrior, FlatPixelsTakeThePriorPlaneAndKeepIt) {
     for (int x = 20; x < 44; ++x) img[y * W + x] = 255.f;
   }
   PatchMatchProblem problem = ShiftedSourcesProblem(img, W, H, 60.f, {{0.2f, 0.f, 0.f}});
-  PatchMatchSchedule schedule;
+  PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   schedule.iterations.push_back({0, 0});
   schedule.num_threads = 1;
   const int centre = 24 * W + 32;  // its window lies inside the block at every scale used
@@ -629,7 +630,7 @@ TEST(KernelRefinement, RejectedPlanesCouldNotHaveWon) {
   const std::vector<float> img = RandomImage(W, H, 21);
   const PatchMatchProblem problem =
       ShiftedSourcesProblem(img, W, H, 70.f, {{0.1f, 0.f, 0.f}, {0.2f, 0.03f, 0.f}, {0.3f, 0.06f, 0.f}});
-  PatchMatchSchedule schedule;
+  PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   schedule.iterations.push_back({0, 0});
   const std::vector<SourceView> sources = MakeSourceViews(problem);
   const PassParams params = MakePassParams(problem, schedule, sources.data());

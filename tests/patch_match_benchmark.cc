@@ -12,6 +12,7 @@
 #include <memory>
 #include <thread>
 
+#include "tests/kernel_schedule_util.h"
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
@@ -78,7 +79,7 @@ void BM_PhotometricStage(benchmark::State& state) {
   const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
   std::vector<GrayImage> images;
   const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, static_cast<int>(ws.views.size()) - 1, &images);
-  kernels::PatchMatchSchedule schedule;
+  kernels::PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   for (int s = 2; s >= 0; --s) {
     for (int t = 0; t < 3; ++t) schedule.iterations.push_back({s, t});
   }
@@ -119,7 +120,7 @@ SweepPoint RunSweepPoint(int num_sources, int width, int height) {
   const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
   std::vector<GrayImage> images;
   const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, num_sources, &images);
-  kernels::PatchMatchSchedule schedule;
+  kernels::PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   for (int t = 0; t < 3; ++t) schedule.iterations.push_back({0, t});
   schedule.num_threads = 2;
   kernels::PatchMatchResult result;

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "tests/kernel_schedule_util.h"
 #include "kernels/median_filter.h"
 #include "kernels/patch_match.h"
 #include "tests/plane_scene_util.h"
@@ -42,7 +43,7 @@ PlaneScene MakeScene(int W, int H, float noise_sigma) {
 PatchMatchProblem MakeProblem(const PlaneScene& scene) { return test::MakePlaneSceneProblem(scene, 2.f, 8.f); }
 
 PatchMatchSchedule MultiScaleSchedule(int max_scale, int per_scale) {
-  PatchMatchSchedule schedule;
+  PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   for (int s = max_scale; s >= 0; --s) {
     for (int t = 0; t < per_scale; ++t) schedule.iterations.push_back({s, t});
   }

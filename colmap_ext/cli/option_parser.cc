@@ -136,7 +136,8 @@ bool OptionParser::Parse(const std::vector<std::string>& args) {
   }
 
   warnings_.clear();
-  std::map<std::string, int> count;
+  given_.clear();
+  std::map<std::string, int>& count = given_;
   for (const po::option& given : parsed.options) {
     const std::string& name = given.string_key;
     if (name == "help") return false;
@@ -169,6 +170,7 @@ bool OptionParser::Parse(const std::vector<std::string>& args) {
                           " times; the last value is used");
     }
   }
+  for (const auto& callback : on_parsed_) callback(*this);
   return true;
 }
 

@@ -33,6 +33,15 @@ class OptionParser {
   // (-h/--help) was asked for. An option given twice takes its last value, with a warning.
   bool Parse(const std::vector<std::string>& args);
 
+  // Called at the end of every successful Parse, in the order added (e.g. to apply a preset
+  // to the options not given); may throw Error.
+  void OnParsed(std::function<void(const OptionParser&)> callback) { on_parsed_.push_back(std::move(callback)); }
+  // Whether the last Parse saw the option on the command line.
+  bool Given(const std::string& name) const {
+    const auto it = given_.find(name);
+    return it != given_.end() && it->second > 0;
+  }
+
   // Warnings of the last Parse: ignored options and options given more than once.
   const std::vector<std::string>& Warnings() const { return warnings_; }
   // One entry per option: name, default (current value) and help.
@@ -55,6 +64,8 @@ class OptionParser {
   std::map<std::string, Option> options_;
   std::vector<std::string> order_;
   std::vector<std::string> warnings_;
+  std::map<std::string, int> given_;
+  std::vector<std::function<void(const OptionParser&)>> on_parsed_;
 };
 
 // Parses "0/1/true/false" (case-insensitive); false on anything else.

@@ -1,6 +1,7 @@
 #include "colmap_ext/options/patch_match_options.h"
 
 #include <sstream>
+#include <type_traits>
 
 namespace mpmvs {
 namespace {
@@ -13,27 +14,51 @@ bool Fail(std::string* error, const std::string& name, const T& value, const std
   return false;
 }
 
+template <typename T>
+bool Allowed(const OptionRange& range, const T& value) {
+  if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, bool>) {
+    return range.Allows(value);
+  } else {
+    return range.Allows(static_cast<double>(value));
+  }
+}
+
+// The first value outside its declared range, as an error naming it.
+template <typename Options>
+bool CheckRanges(const Options& options, const std::string& section, std::string* error) {
+  bool ok = true;
+  options.Visit([&](const OptionSpec& spec, const auto& value, const auto&...) {
+    if (ok && !Allowed(spec.range, value)) ok = Fail(error, section + spec.name, value, spec.range.Text());
+  });
+  return ok;
+}
+
+template <typename T>
+std::string ValueText(const T& value) {
+  std::ostringstream ss;
+  if constexpr (std::is_same_v<T, bool>) {
+    ss << (value ? 1 : 0);
+  } else {
+    ss << value;
+  }
+  const std::string text = ss.str();
+  return text.empty() ? "\"\"" : text;
+}
+
+std::string MarkdownCell(std::string text) {
+  std::string out;
+  for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
 }  // namespace
 
 bool PatchMatchStereoOptions::Check(std::string* error) const {
   const std::string p = "PatchMatchStereo.";
-  if (max_image_size == 0 || max_image_size < -1)
-    return Fail(error, p + "max_image_size", max_image_size, "-1 or > 0");
   if ((depth_min != -1 || depth_max != -1) && !(depth_min > 0 && depth_max > depth_min))
     return Fail(error, p + "depth_min/depth_max", std::to_string(depth_min) + "/" + std::to_string(depth_max),
                 "both set with 0 < depth_min < depth_max (or both -1)");
-  if (filter_min_ncc < -1 || filter_min_ncc > 1)
-    return Fail(error, p + "filter_min_ncc", filter_min_ncc, "in [-1, 1]");
-  if (filter_min_triangulation_angle < 0 || filter_min_triangulation_angle > 180)
-    return Fail(error, p + "filter_min_triangulation_angle", filter_min_triangulation_angle, "in [0, 180]");
-  if (filter_min_num_consistent < 0)
-    return Fail(error, p + "filter_min_num_consistent", filter_min_num_consistent, ">= 0");
-  if (filter_geom_consistency_max_cost < 0)
-    return Fail(error, p + "filter_geom_consistency_max_cost", filter_geom_consistency_max_cost, ">= 0");
-  if (cache_size <= 0) return Fail(error, p + "cache_size", cache_size, "> 0");
-  if (num_threads < -1 || num_threads == 0) return Fail(error, p + "num_threads", num_threads, "-1 or > 0");
-  if (min_triangulation_angle < 0 || min_triangulation_angle >= 180)
-    return Fail(error, p + "min_triangulation_angle", min_triangulation_angle, "in [0, 180)");
+  if (!CheckRanges(*this, p, error)) return false;
   std::stringstream ss(gpu_index);
   std::string item;
   while (std::getline(ss, item, ',')) {
@@ -54,37 +79,64 @@ PlanarPriorMode MpMvsOptions::PriorMode() const {
   return PlanarPriorMode::kNone;
 }
 
-bool MpMvsOptions::Check(std::string* error) const {
-  const std::string p = "MPMVS.";
-  if (max_window_scale < 0 || max_window_scale > 4)
-    return Fail(error, p + "max_window_scale", max_window_scale, "in [0, 4]");
-  if (iterations_per_scale < 1) return Fail(error, p + "iterations_per_scale", iterations_per_scale, ">= 1");
-  if (planar_prior != "none" && planar_prior != "photometric" && planar_prior != "geometric")
-    return Fail(error, p + "planar_prior", planar_prior, "none, photometric or geometric");
-  if (geom_iterations < 1) return Fail(error, p + "geom_iterations", geom_iterations, ">= 1");
-  if (prior_iterations < 1) return Fail(error, p + "prior_iterations", prior_iterations, ">= 1");
-  if (geom_weight < 0) return Fail(error, p + "geom_weight", geom_weight, ">= 0");
-  if (geom_max_error <= 0) return Fail(error, p + "geom_max_error", geom_max_error, "> 0");
-  if (prior_cell_size < 1) return Fail(error, p + "prior_cell_size", prior_cell_size, ">= 1");
-  if (prior_points_per_cell < 1) return Fail(error, p + "prior_points_per_cell", prior_points_per_cell, ">= 1");
-  if (prior_beta <= 0) return Fail(error, p + "prior_beta", prior_beta, "> 0");
-  if (!(prior_vertex_bend >= 0 && prior_vertex_bend <= 1))
-    return Fail(error, p + "prior_vertex_bend", prior_vertex_bend, "in [0, 1]");
-  if (settled_pixel_skips < 0 || settled_pixel_skips > 255)
-    return Fail(error, p + "settled_pixel_skips", settled_pixel_skips, "in [0, 255]");
-  if (refinement_rho <= 0 || refinement_rho >= 1)
-    return Fail(error, p + "refinement_rho", refinement_rho, "in (0, 1)");
-  if (!(chroma_weight >= 0 && chroma_weight <= 1000))
-    return Fail(error, p + "chroma_weight", chroma_weight, "in [0, 1000]");
-  if (max_source_images < 1 || max_source_images > 32)
-    return Fail(error, p + "max_source_images", max_source_images, "in [1, 32]");
-  if (seed < 0) return Fail(error, p + "seed", seed, ">= 0");
-  if (depth_check_views < 0 || depth_check_views > 32)
-    return Fail(error, p + "depth_check_views", depth_check_views, "in [0, 32]");
-  if (prior_rounds < 1 || prior_rounds > 4) return Fail(error, p + "prior_rounds", prior_rounds, "in [1, 4]");
-  if (stage.empty()) return Fail(error, p + "stage", stage, "all or a stage name (photometric, geometric1, ...)");
-  if (claim_lease < 1) return Fail(error, p + "claim_lease", claim_lease, ">= 1 (seconds)");
+bool MpMvsOptions::Check(std::string* error) const { return CheckRanges(*this, "MPMVS.", error); }
+
+const char* PresetNames() { return "default|paper"; }
+
+bool ApplyPreset(const std::string& preset, const std::function<bool(const std::string&)>& given,
+                 MpMvsOptions* options) {
+  if (preset != "default" && preset != "paper") return false;
+  const bool paper = preset == "paper";
+  options->Visit([&](const OptionSpec& spec, auto& value, const auto& default_value, const auto& paper_value) {
+    if (spec.effect != OptionEffect::kRun && !given(spec.name)) value = paper ? paper_value : default_value;
+  });
   return true;
+}
+
+std::string ResultOptionsText(const MpMvsOptions& options) {
+  std::ostringstream s;
+  s.precision(17);
+  options.Visit([&](const OptionSpec& spec, const auto& value, const auto& default_value, const auto&) {
+    if (spec.effect == OptionEffect::kRun) return;
+    if (spec.effect == OptionEffect::kResultWhenSet && value == default_value) return;
+    s << spec.name << " " << value << "\n";
+  });
+  return s.str();
+}
+
+std::string OptionsMarkdown() {
+  std::ostringstream md;
+  md << "# Options of mp_patch_match_stereo\n\n"
+        "Generated from the declarations in `colmap_ext/options/patch_match_options.h` (a test keeps this file\n"
+        "equal to them; `MPMVS_UPDATE_DOCS=1 build/mpmvs_tests --gtest_filter='OptionDocs.*'` rewrites it).\n"
+        "`colmap-mp mp_patch_match_stereo -h` prints the same. Booleans take 1|0 or true|false.\n\n"
+        "## COLMAP's options\n\n"
+        "Accepted under COLMAP's names and with COLMAP's meaning.\n\n"
+        "| option | default | range | meaning |\n|---|---|---|---|\n";
+  PatchMatchStereoOptions colmap;
+  colmap.Visit([&](const OptionSpec& spec, const auto& value) {
+    md << "| `--PatchMatchStereo." << spec.name << "` | " << MarkdownCell(ValueText(value)) << " | "
+       << MarkdownCell(spec.range.Text()) << " | " << MarkdownCell(spec.help) << " |\n";
+  });
+  md << "\nAccepted for COLMAP compatibility and ignored with a warning (they describe COLMAP's own "
+        "algorithm):\n\n";
+#define MPMVS_IGNORED_ROW(NAME, HINT) md << "- `--PatchMatchStereo." #NAME "`: " HINT "\n";
+  MPMVS_COLMAP_IGNORED_OPTIONS(MPMVS_IGNORED_ROW)
+#undef MPMVS_IGNORED_ROW
+  md << "\n## The method's options\n\n"
+        "`--MPMVS.preset default|paper` sets the defaults of all of them at once (`paper`: the column below,\n"
+        "MP-MVS as published); options given explicitly override the preset. \"result\": the option changes\n"
+        "the maps, so it enters the fingerprint of every stage's state (a change recomputes) and two runs on\n"
+        "one workspace must agree on it.\n\n"
+        "| option | default | paper | range | effect | meaning |\n|---|---|---|---|---|---|\n";
+  MpMvsOptions method;
+  method.Visit([&](const OptionSpec& spec, const auto& value, const auto&, const auto& paper_value) {
+    const std::string paper = ValueText(paper_value) == ValueText(value) ? "" : ValueText(paper_value);
+    md << "| `--MPMVS." << spec.name << "` | " << MarkdownCell(ValueText(value)) << " | " << MarkdownCell(paper)
+       << " | " << MarkdownCell(spec.range.Text()) << " | " << (spec.effect == OptionEffect::kRun ? "run" : "result")
+       << " | " << MarkdownCell(spec.help) << " |\n";
+  });
+  return md.str();
 }
 
 }  // namespace mpmvs

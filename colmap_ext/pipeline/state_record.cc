@@ -61,24 +61,8 @@ uint64_t StateChecksum(const FloatMap& state) {
   return HashBytes(state.data.data(), state.data.size() * sizeof(float), HashBytes(sizes, sizeof(sizes)));
 }
 
-std::string StateOptionsText(const MpMvsOptions& o) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "math_revision " << kStateMathRevision << "\n";
-  s << "max_window_scale " << o.max_window_scale << "\niterations_per_scale " << o.iterations_per_scale
-    << "\ndistant_sampling " << o.distant_sampling << "\nplanar_prior " << o.planar_prior << "\ngeom_iterations "
-    << o.geom_iterations << "\nprior_iterations " << o.prior_iterations << "\nprior_rounds " << o.prior_rounds << "\ngeom_weight " << o.geom_weight
-    << "\ngeom_max_error " << o.geom_max_error << "\nprior_max_photo_cost " << o.prior_max_photo_cost
-    << "\nprior_max_geom_error " << o.prior_max_geom_error << "\nprior_max_cost_acmp " << o.prior_max_cost_acmp
-    << "\nprior_cell_size " << o.prior_cell_size << "\nprior_points_per_cell " << o.prior_points_per_cell
-    << "\nprior_plane_vote " << o.prior_plane_vote << "\nprior_source_vertices " << o.prior_source_vertices
-    << "\nprior_vertex_bend " << o.prior_vertex_bend
-    << "\nprior_beta " << o.prior_beta << "\nnoise_floor "
-    << o.noise_floor << "\nrefinement_rho " << o.refinement_rho << "\ndepth_check_views " << o.depth_check_views << "\nchroma_weight " << o.chroma_weight
-    << "\nmax_source_images " << o.max_source_images << "\nseed " << o.seed << "\n";
-  // Only when on: states of the default (off, the same maps as before the option) stay valid.
-  if (o.settled_pixel_skips != 0) s << "settled_pixel_skips " << o.settled_pixel_skips << "\n";
-  return s.str();
+std::string StateOptionsText(const MpMvsOptions& options) {
+  return "math_revision " + std::to_string(kStateMathRevision) + "\n" + ResultOptionsText(options);
 }
 
 bool ReadStateRecord(const std::string& path, StateRecord* record, std::string* why) {

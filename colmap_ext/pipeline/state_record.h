@@ -37,10 +37,8 @@ uint64_t StateChecksum(const FloatMap& state);
 // of resuming from them.
 constexpr int kStateMathRevision = 7;
 
-// The options that change a stage's result (all --MPMVS.* but overwrite and
-// write_pictures; image size, depth range and sources enter the inputs hash instead;
-// threads, cache, GPU and output-only options do not change the states), and
-// kStateMathRevision.
+// kStateMathRevision and the --MPMVS options that change a stage's result (declared so:
+// ResultOptionsText). Image size, depth range and sources enter the inputs hash instead.
 std::string StateOptionsText(const MpMvsOptions& options);
 
 // "" when absent or unreadable (then the state counts as unknown).

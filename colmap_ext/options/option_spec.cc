@@ -1,0 +1,71 @@
+#include "colmap_ext/options/option_spec.h"
+
+#include <sstream>
+#include <vector>
+
+namespace mpmvs {
+namespace {
+
+std::string Number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
+
+std::vector<std::string> Words(const char* text) {
+  std::vector<std::string> words;
+  std::stringstream ss(text);
+  std::string word;
+  while (std::getline(ss, word, '|')) words.push_back(word);
+  return words;
+}
+
+}  // namespace
+
+bool OptionRange::Allows(double v) const {
+  switch (kind) {
+    case Kind::kAny: return true;
+    case Kind::kClosed: return v >= lo && v <= hi;
+    case Kind::kOpen: return v > lo && v < hi;
+    case Kind::kClosedOpen: return v >= lo && v < hi;
+    case Kind::kAtLeast: return v >= lo;
+    case Kind::kAbove: return v > lo;
+    case Kind::kMinusOneOrAbove: return v == -1 || v > lo;
+    case Kind::kText: return false;
+  }
+  return false;
+}
+
+bool OptionRange::Allows(const std::string& value) const {
+  if (kind == Kind::kAny) return true;
+  if (kind != Kind::kText) return false;
+  if (!choices) return !value.empty();
+  for (const std::string& word : Words(text)) {
+    if (value == word) return true;
+  }
+  return false;
+}
+
+std::string OptionRange::Text() const {
+  switch (kind) {
+    case Kind::kAny: return "";
+    case Kind::kClosed: return "in [" + Number(lo) + ", " + Number(hi) + "]";
+    case Kind::kOpen: return "in (" + Number(lo) + ", " + Number(hi) + ")";
+    case Kind::kClosedOpen: return "in [" + Number(lo) + ", " + Number(hi) + ")";
+    case Kind::kAtLeast: return ">= " + Number(lo);
+    case Kind::kAbove: return "> " + Number(lo);
+    case Kind::kMinusOneOrAbove: return "-1 or > " + Number(lo);
+    case Kind::kText: {
+      if (!choices) return text;
+      const std::vector<std::string> words = Words(text);
+      std::string out;
+      for (size_t i = 0; i < words.size(); ++i) {
+        out += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+      }
+      return out;
+    }
+  }
+  return "";
+}
+
+}  // namespace mpmvs

@@ -1,0 +1,60 @@
+#pragma once
+// What an option declaration says besides its name, type and default (patch_match_options.h):
+// the values it accepts, whether it changes results, and its help.
+#include <string>
+
+namespace mpmvs {
+
+// The values an option accepts. Bounds are checked NaN-safe: NaN is outside every bound.
+struct OptionRange {
+  enum class Kind {
+    kAny,             // every value of the type
+    kClosed,          // lo <= v <= hi
+    kOpen,            // lo < v < hi
+    kClosedOpen,      // lo <= v < hi
+    kAtLeast,         // v >= lo
+    kAbove,           // v > lo
+    kMinusOneOrAbove, // v == -1 or v > lo
+    kText,            // a text option: one of `text` ("a|b|c"), or any non-empty text when
+                      // `choices` is false (then `text` says what it should be)
+  };
+  Kind kind = Kind::kAny;
+  double lo = 0, hi = 0;
+  const char* text = "";
+  bool choices = false;
+
+  static constexpr OptionRange Any() { return {}; }
+  static constexpr OptionRange Closed(double lo, double hi) { return {Kind::kClosed, lo, hi}; }
+  static constexpr OptionRange Open(double lo, double hi) { return {Kind::kOpen, lo, hi}; }
+  static constexpr OptionRange ClosedOpen(double lo, double hi) { return {Kind::kClosedOpen, lo, hi}; }
+  static constexpr OptionRange AtLeast(double lo) { return {Kind::kAtLeast, lo, 0}; }
+  static constexpr OptionRange Above(double lo) { return {Kind::kAbove, lo, 0}; }
+  static constexpr OptionRange MinusOneOrAbove(double lo) { return {Kind::kMinusOneOrAbove, lo, 0}; }
+  // "a|b|c": exactly one of these words.
+  static constexpr OptionRange OneOf(const char* words) { return {Kind::kText, 0, 0, words, true}; }
+  // Any non-empty text; `what` describes it in messages.
+  static constexpr OptionRange NonEmpty(const char* what) { return {Kind::kText, 0, 0, what, false}; }
+
+  bool Allows(double value) const;
+  bool Allows(const std::string& value) const;
+  bool Allows(bool) const { return true; }
+  // "in [0, 4]", ">= 1", "none, photometric or geometric", ... ("" for kAny).
+  std::string Text() const;
+};
+
+// What a value of the option affects.
+enum class OptionEffect {
+  kResult,         // the maps: enters the state fingerprint and the concurrent-run check
+  kResultWhenSet,  // as kResult, but enters the fingerprint only away from its default, so
+                   // states written before the option existed stay valid
+  kRun,            // how the run goes (which images, resuming, pictures), not the maps
+};
+
+struct OptionSpec {
+  const char* name;  // without its section: "max_window_scale"
+  OptionRange range;
+  OptionEffect effect;
+  const char* help;
+};
+
+}  // namespace mpmvs
