@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/chroma_guide.h"
+#include "colmap_ext/prior/chroma_guide.h"
 
 #include <gtest/gtest.h>
 

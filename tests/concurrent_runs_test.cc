@@ -1,4 +1,4 @@
-// Two mp_patch_match_stereo runs on one workspace (pipeline/work_claims.h): a run leaves an
+// Two mp_patch_match_stereo runs on one workspace (schedule/work_claims.h): a run leaves an
 // image whose stage another live process holds, does its other images, then waits for it;
 // a run with other options stops before it writes anything.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <thread>
 
-#include "colmap_ext/pipeline/work_claims.h"
+#include "colmap_ext/schedule/work_claims.h"
 #include "colmap_ext/util/file_util.h"
 #include "test_util.h"
 

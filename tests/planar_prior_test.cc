@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "colmap_ext/pipeline/planar_prior.h"
+#include "colmap_ext/prior/planar_prior.h"
 
 namespace mpmvs {
 namespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <set>
 
-#include "colmap_ext/pipeline/shard.h"
+#include "colmap_ext/plan/shard.h"
 #include "colmap_ext/util/error.h"
 #include "test_util.h"
 

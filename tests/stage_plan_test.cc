@@ -1,9 +1,9 @@
-// The stage chain of each planar-prior mode (pipeline/stage_plan.h).
+// The stage chain of each planar-prior mode (plan/stage_plan.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "colmap_ext/pipeline/stage_plan.h"
+#include "colmap_ext/plan/stage_plan.h"
 
 namespace mpmvs {
 namespace {

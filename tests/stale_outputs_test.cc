@@ -13,7 +13,7 @@
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/sparse_model.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
-#include "colmap_ext/pipeline/state_record.h"
+#include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/error.h"
 #include "tests/io_test_util.h"
 #include "tests/test_util.h"

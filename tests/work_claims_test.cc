@@ -1,5 +1,5 @@
 // Work claims: atomic creation, a live claim is respected, a dead holder's claim is taken
-// over, release removes it (pipeline/work_claims.h).
+// over, release removes it (schedule/work_claims.h).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <thread>
 
-#include "colmap_ext/pipeline/work_claims.h"
+#include "colmap_ext/schedule/work_claims.h"
 #include "colmap_ext/util/file_util.h"
 #include "test_util.h"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/pipeline/reference_problems.h"
-#include "colmap_ext/pipeline/run_plan.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
 
 namespace mpmvs {
 

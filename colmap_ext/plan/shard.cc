@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/shard.h"
+#include "colmap_ext/plan/shard.h"
 
 #include <algorithm>
 #include <fstream>

@@ -1,8 +1,8 @@
-#include "colmap_ext/pipeline/reference_problems.h"
+#include "colmap_ext/plan/reference_problems.h"
 
 #include <set>
 
-#include "colmap_ext/pipeline/kernel_camera.h"
+#include "colmap_ext/plan/kernel_camera.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"

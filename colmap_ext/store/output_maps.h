@@ -5,8 +5,8 @@
 
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/io/workspace_io.h"
-#include "colmap_ext/pipeline/planar_prior.h"
-#include "colmap_ext/pipeline/reference_problems.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/prior/planar_prior.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {

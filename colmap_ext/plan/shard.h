@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "colmap_ext/io/dense_workspace.h"
-#include "colmap_ext/pipeline/reference_problems.h"
+#include "colmap_ext/plan/reference_problems.h"
 
 namespace mpmvs {
 

@@ -1,10 +1,10 @@
-#include "colmap_ext/pipeline/output_maps.h"
+#include "colmap_ext/store/output_maps.h"
 
 #include <utility>
 #include <vector>
 
 #include "colmap_ext/io/mat_io.h"
-#include "colmap_ext/pipeline/stage_store.h"
+#include "colmap_ext/store/stage_store.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/visualization/visualization.h"
 

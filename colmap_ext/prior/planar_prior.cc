@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/planar_prior.h"
+#include "colmap_ext/prior/planar_prior.h"
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/stage_store.h"
+#include "colmap_ext/store/stage_store.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "colmap_ext/io/mat_io.h"
-#include "colmap_ext/pipeline/chroma_guide.h"
-#include "colmap_ext/pipeline/kernel_camera.h"
+#include "colmap_ext/plan/kernel_camera.h"
+#include "colmap_ext/prior/chroma_guide.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/stage_plan.h"
+#include "colmap_ext/plan/stage_plan.h"
 
 namespace mpmvs {
 

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/stage_inputs.h"
+#include "colmap_ext/schedule/stage_inputs.h"
 
 #include <algorithm>
 #include <map>

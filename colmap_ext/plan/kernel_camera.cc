@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/kernel_camera.h"
+#include "colmap_ext/plan/kernel_camera.h"
 
 #include <algorithm>
 #include <cmath>

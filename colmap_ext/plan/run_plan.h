@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/pipeline/backend.h"
 #include "colmap_ext/options/patch_match_options.h"
-#include "colmap_ext/pipeline/planar_prior.h"
-#include "colmap_ext/pipeline/shard.h"
-#include "colmap_ext/pipeline/stage_plan.h"
+#include "colmap_ext/plan/backend_options.h"
+#include "colmap_ext/plan/shard.h"
+#include "colmap_ext/plan/stage_plan.h"
+#include "colmap_ext/prior/planar_prior.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
@@ -29,7 +29,7 @@ struct RunPlan {
   bool overwrite = false;
   bool write_pictures = false;
   bool write_consistency_graph = false;
-  // Which part of the work this process does (pipeline/shard.h, pipeline/work_claims.h).
+  // Which part of the work this process does (plan/shard.h, schedule/work_claims.h).
   ShardSpec shard;
   std::vector<std::string> image_names;  // --MPMVS.image_list_path ("": all)
   int only_stage = -1;                   // --MPMVS.stage: index in pipeline.stages (-1: all)

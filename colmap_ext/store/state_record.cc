@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/state_record.h"
+#include "colmap_ext/store/state_record.h"
 
 #include <cinttypes>
 #include <cstdio>

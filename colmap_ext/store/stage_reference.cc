@@ -1,10 +1,10 @@
-#include "colmap_ext/pipeline/stage_reference.h"
+#include "colmap_ext/store/stage_reference.h"
 
 #include <algorithm>
 #include <limits>
 
-#include "colmap_ext/pipeline/image_noise.h"
-#include "colmap_ext/pipeline/kernel_camera.h"
+#include "colmap_ext/plan/kernel_camera.h"
+#include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/util/logging.h"
 
 namespace mpmvs {

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/run_plan.h"
+#include "colmap_ext/plan/run_plan.h"
 
 #include <sstream>
 

@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "colmap_ext/io/dense_workspace.h"
-#include "colmap_ext/pipeline/planar_prior.h"
-#include "colmap_ext/pipeline/reference_problems.h"
-#include "colmap_ext/pipeline/run_plan.h"
-#include "colmap_ext/pipeline/stage_store.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/prior/planar_prior.h"
+#include "colmap_ext/store/stage_store.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {

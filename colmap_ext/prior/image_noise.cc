@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/image_noise.h"
+#include "colmap_ext/prior/image_noise.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "colmap_ext/pipeline/work_claims.h"
+#include "colmap_ext/schedule/work_claims.h"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -11,9 +11,9 @@
 
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/io/workspace_io.h"
-#include "colmap_ext/pipeline/reference_problems.h"
-#include "colmap_ext/pipeline/run_plan.h"
-#include "colmap_ext/pipeline/state_record.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/lru_cache.h"
 #include "kernels/patch_match.h"
 
