@@ -20,7 +20,7 @@ using test::MakeSampleModel;
 using test::TempDir;
 using test::WriteText;
 
-TEST(CameraModelTest, TableOfColmap38Models) {
+TEST(CameraModel, TableOfColmap38Models) {
   const char* names[] = {"SIMPLE_PINHOLE", "PINHOLE",          "SIMPLE_RADIAL",
                          "RADIAL",         "OPENCV",           "OPENCV_FISHEYE",
                          "FULL_OPENCV",    "FOV",              "SIMPLE_RADIAL_FISHEYE",
@@ -39,7 +39,7 @@ TEST(CameraModelTest, TableOfColmap38Models) {
   EXPECT_EQ(CameraModelNumParams(99), -1);
 }
 
-TEST(SparseModelTest, BinaryRoundTrip) {
+TEST(SparseModel, BinaryRoundTrip) {
   TempDir dir;
   const SparseModel model = MakeSampleModel();
   WriteSparseModelBinary(model, dir.path());
@@ -48,7 +48,7 @@ TEST(SparseModelTest, BinaryRoundTrip) {
   EXPECT_TRUE(HasBinarySparseModel(dir.path()));
 }
 
-TEST(SparseModelTest, TextRoundTripIsExact) {
+TEST(SparseModel, TextRoundTripIsExact) {
   TempDir dir;
   const SparseModel model = MakeSampleModel();
   WriteSparseModelText(model, dir.path());
@@ -58,7 +58,7 @@ TEST(SparseModelTest, TextRoundTripIsExact) {
   EXPECT_EQ(SparseModelFilePath(dir.path(), "cameras"), dir / "cameras.txt");
 }
 
-TEST(SparseModelTest, BinaryIsPreferredOverText) {
+TEST(SparseModel, BinaryIsPreferredOverText) {
   TempDir dir;
   SparseModel text_model = MakeSampleModel();
   text_model.images[0].name = "from_text.png";
@@ -71,7 +71,7 @@ TEST(SparseModelTest, BinaryIsPreferredOverText) {
   EXPECT_EQ(ReadSparseModel(dir.path()).images[0].name, "from_text.png");
 }
 
-TEST(SparseModelTest, TextFormatDetails) {
+TEST(SparseModel, TextFormatDetails) {
   TempDir dir;
   WriteText(dir / "cameras.txt",
             "# comment\n\n  # indented comment\n"
@@ -130,7 +130,7 @@ void ExpectRotation(const double R[9]) {
   EXPECT_NEAR(det, 1, 1e-12);
 }
 
-TEST(QuaternionTest, KnownRotations) {
+TEST(Quaternion, KnownRotations) {
   // 90 degrees about z: x axis -> y axis (Hamilton convention, active rotation).
   const double qz[4] = {std::sqrt(0.5), 0, 0, std::sqrt(0.5)};
   double R[9];
@@ -153,7 +153,7 @@ TEST(QuaternionTest, KnownRotations) {
   for (int i = 0; i < 9; ++i) EXPECT_EQ(R[i], i % 4 == 0 ? 1 : 0);
 }
 
-TEST(QuaternionTest, MatrixRoundTripCoversAllBranches) {
+TEST(Quaternion, MatrixRoundTripCoversAllBranches) {
   std::mt19937 rng(42);
   std::normal_distribution<double> normal;
   std::vector<std::array<double, 4>> quaternions = {
@@ -185,7 +185,7 @@ TEST(QuaternionTest, MatrixRoundTripCoversAllBranches) {
 
 // ---- bad input ---------------------------------------------------------------------------
 
-TEST(SparseModelErrorTest, MissingFolderAndFiles) {
+TEST(SparseModelError, MissingFolderAndFiles) {
   TempDir dir;
   EXPECT_MPMVS_ERROR(ReadSparseModel(dir / "nope"), "nope");
   EXPECT_MPMVS_ERROR(ReadSparseModel(dir.path()), "no sparse model");
@@ -195,7 +195,7 @@ TEST(SparseModelErrorTest, MissingFolderAndFiles) {
   EXPECT_MPMVS_ERROR(ReadSparseModelText(dir.path()), "cameras.txt");
 }
 
-TEST(SparseModelErrorTest, TruncatedBinaryFilesThrow) {
+TEST(SparseModelError, TruncatedBinaryFilesThrow) {
   TempDir dir;
   WriteSparseModelBinary(MakeSampleModel(), dir.path());
   for (const std::string name : {"cameras.bin", "images.bin", "points3D.bin"}) {
@@ -222,7 +222,7 @@ constexpr size_t kFirstCameraModelOffset = 8 + 4;
 constexpr size_t kFirstImageNumPoints2DOffset = 8 + 4 + 56 + 4 + 6;  // after "a.png\0"
 constexpr size_t kFirstPointTrackLengthOffset = 8 + 8 + 24 + 3 + 8;
 
-TEST(SparseModelErrorTest, AbsurdCountsThrowWithoutAllocating) {
+TEST(SparseModelError, AbsurdCountsThrowWithoutAllocating) {
   TempDir dir;
   WriteSparseModelBinary(MakeSampleModel(), dir.path());
   struct Case {
@@ -252,7 +252,7 @@ TEST(SparseModelErrorTest, AbsurdCountsThrowWithoutAllocating) {
   }
 }
 
-TEST(SparseModelErrorTest, RandomCorruptionThrowsErrorOrReads) {
+TEST(SparseModelError, RandomCorruptionThrowsErrorOrReads) {
   // Flipped bytes must either give a model or an mpmvs::Error, never a crash, a hang or
   // another exception type (run under ASan to see out-of-bounds reads).
   TempDir dir;
@@ -277,7 +277,7 @@ TEST(SparseModelErrorTest, RandomCorruptionThrowsErrorOrReads) {
   }
 }
 
-TEST(SparseModelErrorTest, UnknownBinaryCameraModel) {
+TEST(SparseModelError, UnknownBinaryCameraModel) {
   TempDir dir;
   WriteSparseModelBinary(MakeSampleModel(), dir.path());
   std::vector<uint8_t> bytes = ReadFileBytes(dir / "cameras.bin");
@@ -286,7 +286,7 @@ TEST(SparseModelErrorTest, UnknownBinaryCameraModel) {
   EXPECT_MPMVS_ERROR(ReadSparseModelBinary(dir.path()), "cameras.bin: camera 3 has unknown model id 77");
 }
 
-TEST(SparseModelErrorTest, BadTextLinesNameFileAndLine) {
+TEST(SparseModelError, BadTextLinesNameFileAndLine) {
   TempDir dir;
   const std::string good_cameras = "1 PINHOLE 100 80 90 91 50 40\n";
   const std::string good_images = "1 1 0 0 0 0 0 0 1 a.png\n1 2 -1\n";
@@ -337,7 +337,7 @@ TEST(SparseModelErrorTest, BadTextLinesNameFileAndLine) {
   EXPECT_EQ(ReadSparseModel(dir.path()).points.size(), 1u);
 }
 
-TEST(SparseModelErrorTest, WriterRejectsWrongParameterCount) {
+TEST(SparseModelError, WriterRejectsWrongParameterCount) {
   TempDir dir;
   SparseModel model = MakeSampleModel();
   model.cameras[0].params.pop_back();
@@ -348,7 +348,7 @@ TEST(SparseModelErrorTest, WriterRejectsWrongParameterCount) {
 
 // ---- real data ---------------------------------------------------------------------------
 
-TEST(SparseModelDatasetTest, ReadsMiddlebury2005DollsTextModel) {
+TEST(SparseModelDataset, ReadsMiddlebury2005DollsTextModel) {
   MPMVS_REQUIRE_DATASET(dataset, "middlebury2005_dolls");
   const SparseModel model = ReadSparseModel(dataset + "/sparse");
   ASSERT_EQ(model.cameras.size(), 2u);

@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "colmap_ext/util/file_util.h"
-#include "test_util.h"
+#include "tests/test_util.h"
 
 namespace mpmvs {
 namespace {
@@ -26,7 +26,7 @@ bool HaveSlurm() {
                           "PATH=$PATH:/usr/sbin command -v munged && PATH=$PATH:/usr/sbin command -v mungekey) >/dev/null 2>&1") == 0;
 }
 
-class SlurmTest : public ::testing::Test {
+class Slurm : public ::testing::Test {
  protected:
   void SetUp() override {
     const bool debian_root = ::geteuid() == 0 && FileExists("/etc/debian_version");
@@ -117,7 +117,7 @@ class SlurmTest : public ::testing::Test {
   bool started_ = false;
 };
 
-TEST_F(SlurmTest, ThreeShardsGiveTheMapsOfOneProcess) {
+TEST_F(Slurm, ThreeShardsGiveTheMapsOfOneProcess) {
   const std::string options = "--PatchMatchStereo.num_threads 1";
   MakeScene(options, 160, 120);
   ASSERT_EQ(Submit(options, tmp_ / "submit.log"), 0) << test::ReadTextFile(tmp_ / "submit.log");
@@ -141,7 +141,7 @@ TEST_F(SlurmTest, ThreeShardsGiveTheMapsOfOneProcess) {
       << test::ReadTextFile(tmp_ / "again.log");
 }
 
-TEST_F(SlurmTest, CancelledTaskIsRedoneByResubmitting) {
+TEST_F(Slurm, CancelledTaskIsRedoneByResubmitting) {
   // A slower photometric stage (more iterations, a larger scene: about 1.5 s per image on
   // one core), so that the task is caught while it runs; at 160 x 120 a task could finish
   // between the check and the cancel.

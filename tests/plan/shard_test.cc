@@ -8,7 +8,7 @@
 
 #include "colmap_ext/plan/shard.h"
 #include "colmap_ext/util/error.h"
-#include "test_util.h"
+#include "tests/test_util.h"
 
 namespace mpmvs {
 namespace {

@@ -80,7 +80,7 @@ void MakeWorkspace(const std::string& path, const SparseModel& model) {
   }
 }
 
-TEST(DenseWorkspaceTest, LoadsViewsInImagesBinOrder) {
+TEST(DenseWorkspace, LoadsViewsInImagesBinOrder) {
   TempDir dir;
   SparseModel model = MakeOverlapModel();
   model.images[2].name = "sub/img2.png";
@@ -114,7 +114,7 @@ TEST(DenseWorkspaceTest, LoadsViewsInImagesBinOrder) {
   EXPECT_EQ(gray.At(2, 3), (2 * 7 + 3 * 3) % 256);
 }
 
-TEST(DenseWorkspaceTest, AutoSourceSelectionKnownAnswers) {
+TEST(DenseWorkspace, AutoSourceSelectionKnownAnswers) {
   TempDir dir;
   MakeWorkspace(dir.path(), MakeOverlapModel());
   const DenseWorkspace ws = LoadDenseWorkspace(dir.path(), -1);
@@ -131,7 +131,7 @@ TEST(DenseWorkspaceTest, AutoSourceSelectionKnownAnswers) {
   EXPECT_THROW(SelectSourcesAuto(ws, 5, 20, 1.0), Error);
 }
 
-TEST(DenseWorkspaceTest, DepthRangesFromSparsePoints) {
+TEST(DenseWorkspace, DepthRangesFromSparsePoints) {
   TempDir dir;
   MakeWorkspace(dir.path(), MakeOverlapModel());
   const DenseWorkspace ws = LoadDenseWorkspace(dir.path(), -1);
@@ -144,7 +144,7 @@ TEST(DenseWorkspaceTest, DepthRangesFromSparsePoints) {
   EXPECT_EQ(ws.views[4].depth_max, -1);
 }
 
-TEST(DenseWorkspaceTest, DepthRangePercentilesLikeColmap) {
+TEST(DenseWorkspace, DepthRangePercentilesLikeColmap) {
   // 100 points at depths 1..100 plus 3 behind the camera (ignored). COLMAP indexes with
   // size * 0.99f in float: 99 (depth 100), not 98 as exact arithmetic would give.
   TempDir dir;
@@ -170,7 +170,7 @@ TEST(DenseWorkspaceTest, DepthRangePercentilesLikeColmap) {
   EXPECT_NEAR(ws.views[0].depth_max, 1.25 * 100, 1e-12);
 }
 
-TEST(DenseWorkspaceTest, MaxImageSizeScalesSizesAndK) {
+TEST(DenseWorkspace, MaxImageSizeScalesSizesAndK) {
   TempDir dir;
   SparseModel model = MakeOverlapModel();
   model.cameras[0].width = 463;
@@ -231,7 +231,7 @@ TEST(DenseWorkspaceTest, MaxImageSizeScalesSizesAndK) {
 
 // ---- errors ------------------------------------------------------------------------------
 
-TEST(DenseWorkspaceErrorTest, MissingWorkspaceAndSubFolders) {
+TEST(DenseWorkspaceError, MissingWorkspaceAndSubFolders) {
   TempDir dir;
   EXPECT_MPMVS_ERROR(LoadDenseWorkspace(dir / "nope", -1),
                      dir / "nope: dense workspace folder does not exist");
@@ -248,7 +248,7 @@ TEST(DenseWorkspaceErrorTest, MissingWorkspaceAndSubFolders) {
   EXPECT_EQ(LoadDenseWorkspace(dir.path(), -1).views.size(), 5u);  // text fallback
 }
 
-TEST(DenseWorkspaceErrorTest, DistortedCameraNeedsUndistortion) {
+TEST(DenseWorkspaceError, DistortedCameraNeedsUndistortion) {
   TempDir dir;
   SparseModel model = MakeOverlapModel();
   SparseCamera radial;
@@ -266,7 +266,7 @@ TEST(DenseWorkspaceErrorTest, DistortedCameraNeedsUndistortion) {
                      "must be undistorted first with `colmap image_undistorter");
 }
 
-TEST(DenseWorkspaceErrorTest, BadCameraOrPose) {
+TEST(DenseWorkspaceError, BadCameraOrPose) {
   TempDir dir;
   SparseModel model = MakeOverlapModel();
   model.cameras[0].params[1] = 0;
@@ -283,7 +283,7 @@ TEST(DenseWorkspaceErrorTest, BadCameraOrPose) {
   EXPECT_MPMVS_ERROR(LoadDenseWorkspace(dir.path(), -1), "images.bin: the sparse model has no images");
 }
 
-TEST(DenseWorkspaceErrorTest, BadImagesAreReportedByReadGray) {
+TEST(DenseWorkspaceError, BadImagesAreReportedByReadGray) {
   TempDir dir;
   MakeWorkspace(dir.path(), MakeOverlapModel());
   // Images are only checked when read, so loading succeeds.
@@ -304,7 +304,7 @@ TEST(DenseWorkspaceErrorTest, BadImagesAreReportedByReadGray) {
 
 // ---- patch-match.cfg ---------------------------------------------------------------------
 
-TEST(PatchMatchConfigTest, AllAutoAndExplicitLists) {
+TEST(PatchMatchConfig, AllAutoAndExplicitLists) {
   TempDir dir;
   MakeWorkspace(dir.path(), MakeOverlapModel());
   const DenseWorkspace ws = LoadDenseWorkspace(dir.path(), -1);
@@ -337,7 +337,7 @@ TEST(PatchMatchConfigTest, AllAutoAndExplicitLists) {
   EXPECT_TRUE(ReadPatchMatchConfig(cfg, ws, 1.0).empty());
 }
 
-TEST(PatchMatchConfigTest, MalformedConfigNamesFileAndLine) {
+TEST(PatchMatchConfig, MalformedConfigNamesFileAndLine) {
   TempDir dir;
   MakeWorkspace(dir.path(), MakeOverlapModel());
   const DenseWorkspace ws = LoadDenseWorkspace(dir.path(), -1);
@@ -371,7 +371,7 @@ TEST(PatchMatchConfigTest, MalformedConfigNamesFileAndLine) {
 
 // ---- real data ---------------------------------------------------------------------------
 
-TEST(DenseWorkspaceDatasetTest, DollsAsWorkspace) {
+TEST(DenseWorkspaceDataset, DollsAsWorkspace) {
   MPMVS_REQUIRE_DATASET(dataset, "middlebury2005_dolls");
   TempDir dir;
   // File by file: the dataset is read-only and fs::copy of a folder keeps its permissions.

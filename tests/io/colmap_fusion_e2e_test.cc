@@ -172,7 +172,7 @@ void NormalsFromDepth(const DenseView& view, FloatMap* depth, FloatMap* normals)
   }
 }
 
-TEST(ColmapFusionE2ETest, DollsGroundTruthMapsFuseOntoTheSurface) {
+TEST(ColmapFusionE2E, DollsGroundTruthMapsFuseOntoTheSurface) {
   MPMVS_REQUIRE_DATASET(dataset, "middlebury2005_dolls");
   MPMVS_REQUIRE_COLMAP(colmap);
   TempDir dir;
@@ -326,7 +326,7 @@ double PlaneDepth(const PlaneScene& plane, const SyntheticCamera& camera, const 
   return (plane.offset - Dot(plane.normal, camera.centre)) / denominator;
 }
 
-TEST(ColmapFusionE2ETest, RotatedCamerasFuseOntoTiltedPlane) {
+TEST(ColmapFusionE2E, RotatedCamerasFuseOntoTiltedPlane) {
   MPMVS_REQUIRE_COLMAP(colmap);
   TempDir dir;
   constexpr int kWidth = 160, kHeight = 120;

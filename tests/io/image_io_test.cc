@@ -47,7 +47,7 @@ void SaveSpecialPng(const std::string& path, FREE_IMAGE_TYPE type, int bpp, int 
   FreeImage_Unload(bitmap);
 }
 
-TEST(ImageIoTest, RgbPngRoundTripAndRowOrder) {
+TEST(ImageIo, RgbPngRoundTripAndRowOrder) {
   TempDir dir;
   RgbImage image = MakeRgb(7, 5, 1);
   // Distinct top-left pixel to catch a vertical flip.
@@ -62,7 +62,7 @@ TEST(ImageIoTest, RgbPngRoundTripAndRowOrder) {
   EXPECT_EQ(std::filesystem::directory_iterator(dir.path())->path().filename(), "rgb.png");
 }
 
-TEST(ImageIoTest, GreyConversionMatchesFreeImageLuma) {
+TEST(ImageIo, GreyConversionMatchesFreeImageLuma) {
   TempDir dir;
   const RgbImage image = MakeRgb(16, 9, 2);
   WriteRgbPng(dir / "rgb.png", image);
@@ -77,7 +77,7 @@ TEST(ImageIoTest, GreyConversionMatchesFreeImageLuma) {
   }
 }
 
-TEST(ImageIoTest, GreyPngRoundTrip) {
+TEST(ImageIo, GreyPngRoundTrip) {
   TempDir dir;
   std::vector<uint8_t> values(11 * 6);
   for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint8_t>(i * 3);
@@ -93,7 +93,7 @@ TEST(ImageIoTest, GreyPngRoundTrip) {
   }
 }
 
-TEST(ImageIoTest, AlphaAndSixteenBitImagesGoThroughTwentyFourBits) {
+TEST(ImageIo, AlphaAndSixteenBitImagesGoThroughTwentyFourBits) {
   TempDir dir;
   const RgbImage image = MakeRgb(8, 6, 3);
   WriteRgbPng(dir / "rgb.png", image);
@@ -132,7 +132,7 @@ TEST(ImageIoTest, AlphaAndSixteenBitImagesGoThroughTwentyFourBits) {
   }
 }
 
-TEST(ImageIoTest, BadFilesNameTheFile) {
+TEST(ImageIo, BadFilesNameTheFile) {
   TempDir dir;
   EXPECT_MPMVS_ERROR(ReadGrayImage(dir / "missing.png"), "missing.png: image file does not exist");
   test::WriteText(dir / "garbage.png", std::string(300, 'g'));
@@ -148,7 +148,7 @@ TEST(ImageIoTest, BadFilesNameTheFile) {
   EXPECT_MPMVS_ERROR(ReadGrayImage(dir / "cut.png"), "cut.png: ");
 }
 
-TEST(ImageIoTest, WritersValidateAndAreAtomic) {
+TEST(ImageIo, WritersValidateAndAreAtomic) {
   TempDir dir;
   WriteGrayPng(dir / "g.png", 2, 2, {1, 2, 3, 4});
   EXPECT_MPMVS_ERROR(WriteGrayPng(dir / "g.png", 3, 2, {1, 2, 3, 4}), "g.png");
@@ -161,7 +161,7 @@ TEST(ImageIoTest, WritersValidateAndAreAtomic) {
             1);
 }
 
-TEST(ImageIoTest, ResizeKeepsConstantsAndRamps) {
+TEST(ImageIo, ResizeKeepsConstantsAndRamps) {
   GrayImage constant;
   constant.width = 40;
   constant.height = 30;
@@ -191,7 +191,7 @@ TEST(ImageIoTest, ResizeKeepsConstantsAndRamps) {
   EXPECT_THROW(ResizeGrayImage(ramp, 0, 5), Error);
 }
 
-TEST(ImageIoTest, ResizeRgbKeepsChannelsApart) {
+TEST(ImageIo, ResizeRgbKeepsChannelsApart) {
   // Red ramp in x, constant green and blue: each channel resized on its own.
   RgbImage image;
   image.width = 200;
@@ -214,7 +214,7 @@ TEST(ImageIoTest, ResizeRgbKeepsChannelsApart) {
   EXPECT_THROW(ResizeRgbImage(image, 100, 5), Error);
 }
 
-TEST(ImageIoTest, PfmRoundTripAndBottomUpRows) {
+TEST(ImageIo, PfmRoundTripAndBottomUpRows) {
   TempDir dir;
   PfmImage image;
   image.width = 3;
@@ -234,7 +234,7 @@ TEST(ImageIoTest, PfmRoundTripAndBottomUpRows) {
   EXPECT_EQ(read.data, image.data);
 }
 
-TEST(ImageIoTest, BigEndianPfm) {
+TEST(ImageIo, BigEndianPfm) {
   TempDir dir;
   std::string text = "Pf\n2 1\n1.0\n";
   std::vector<uint8_t> bytes(text.begin(), text.end());
@@ -247,7 +247,7 @@ TEST(ImageIoTest, BigEndianPfm) {
   EXPECT_EQ(ReadPfm(dir / "be.pfm").data, (std::vector<float>{1.5f, -2.0f}));
 }
 
-TEST(ImageIoTest, CorruptPfm) {
+TEST(ImageIo, CorruptPfm) {
   TempDir dir;
   const std::string path = dir / "x.pfm";
   struct Case {
@@ -278,7 +278,7 @@ TEST(ImageIoTest, CorruptPfm) {
   EXPECT_MPMVS_ERROR(ReadPfm(dir / "none.pfm"), "none.pfm");
 }
 
-TEST(ImageIoDatasetTest, ReadsDollsImagesAndGroundTruth) {
+TEST(ImageIoDataset, ReadsDollsImagesAndGroundTruth) {
   MPMVS_REQUIRE_DATASET(dataset, "middlebury2005_dolls");
   const GrayImage gray = ReadGrayImage(dataset + "/images/view1.png");
   EXPECT_EQ(gray.width, 463);

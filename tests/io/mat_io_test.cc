@@ -38,7 +38,7 @@ FloatMap MakeMap(int width, int height, int channels) {
   return map;
 }
 
-TEST(MatIoTest, DepthMapLayoutIsColmaps) {
+TEST(MatIo, DepthMapLayoutIsColmaps) {
   TempDir dir;
   const FloatMap map = MakeMap(3, 2, 1);
   WriteFloatMap(dir / "d.bin", map);
@@ -54,7 +54,7 @@ TEST(MatIoTest, DepthMapLayoutIsColmaps) {
   }
 }
 
-TEST(MatIoTest, NormalMapIsPlanar) {
+TEST(MatIo, NormalMapIsPlanar) {
   TempDir dir;
   const FloatMap map = MakeMap(4, 3, 3);
   WriteFloatMap(dir / "n.bin", map);
@@ -78,7 +78,7 @@ TEST(MatIoTest, NormalMapIsPlanar) {
   EXPECT_EQ(ReadFloatMap(dir / "n.bin").channels, 3);
 }
 
-TEST(MatIoTest, ReadsHandMadeColmapFile) {
+TEST(MatIo, ReadsHandMadeColmapFile) {
   TempDir dir;
   std::vector<uint8_t> bytes = {'1', '6', '0', '&', '1', '2', '0', '&', '1', '&'};
   const size_t header = bytes.size();
@@ -92,7 +92,7 @@ TEST(MatIoTest, ReadsHandMadeColmapFile) {
   EXPECT_EQ(map.At(0, 0), 0.f);
 }
 
-TEST(MatIoTest, CorruptFilesNameTheFile) {
+TEST(MatIo, CorruptFilesNameTheFile) {
   TempDir dir;
   const std::string path = dir / "bad.geometric.bin";
   struct Case {
@@ -135,13 +135,13 @@ TEST(MatIoTest, CorruptFilesNameTheFile) {
   EXPECT_MPMVS_ERROR(ReadFloatMap(dir / "missing.bin"), "missing.bin: file does not exist");
 }
 
-TEST(MatIoTest, WrongChannelCount) {
+TEST(MatIo, WrongChannelCount) {
   TempDir dir;
   WriteFloatMap(dir / "n.bin", MakeMap(2, 2, 3));
   EXPECT_MPMVS_ERROR(ReadFloatMap(dir / "n.bin", 1), "n.bin: has 3 channels, expected 1");
 }
 
-TEST(MatIoTest, WriterRejectsInconsistentMap) {
+TEST(MatIo, WriterRejectsInconsistentMap) {
   TempDir dir;
   FloatMap map = MakeMap(2, 2, 1);
   map.data.pop_back();
@@ -150,7 +150,7 @@ TEST(MatIoTest, WriterRejectsInconsistentMap) {
   EXPECT_TRUE(ListDirectory(dir.path()).empty());
 }
 
-TEST(MatIoTest, ConsistencyGraphRoundTrip) {
+TEST(MatIo, ConsistencyGraphRoundTrip) {
   TempDir dir;
   ConsistencyGraph graph;
   graph.width = 5;
@@ -173,7 +173,7 @@ TEST(MatIoTest, ConsistencyGraphRoundTrip) {
   EXPECT_TRUE(ReadConsistencyGraph(dir / "empty.bin").data.empty());
 }
 
-TEST(MatIoTest, CorruptConsistencyGraph) {
+TEST(MatIo, CorruptConsistencyGraph) {
   TempDir dir;
   const std::string path = dir / "g.bin";
   const auto write = [&](const std::string& header, const std::vector<int32_t>& values) {
@@ -201,7 +201,7 @@ TEST(MatIoTest, CorruptConsistencyGraph) {
 
 // ---- atomic writes -----------------------------------------------------------------------
 
-TEST(FileUtilTest, FailedWriteLeavesEarlierFileAndNoTemporary) {
+TEST(FileUtil, FailedWriteLeavesEarlierFileAndNoTemporary) {
   TempDir dir;
   const std::string path = dir / "depth.geometric.bin";
   const FloatMap original = MakeMap(3, 3, 1);
@@ -230,13 +230,13 @@ TEST(FileUtilTest, FailedWriteLeavesEarlierFileAndNoTemporary) {
   EXPECT_EQ(ListDirectory(dir.path()).size(), 1u);
 }
 
-TEST(FileUtilTest, WriteIntoMissingFolderFails) {
+TEST(FileUtil, WriteIntoMissingFolderFails) {
   TempDir dir;
   EXPECT_MPMVS_ERROR(WriteFloatMap(dir / "no/such/dir/x.bin", MakeMap(1, 1, 1)),
                      "no/such/dir/x.bin: cannot create file");
 }
 
-TEST(FileUtilTest, PathsAndFiles) {
+TEST(FileUtil, PathsAndFiles) {
   EXPECT_EQ(JoinPaths("a", "b"), "a/b");
   EXPECT_EQ(JoinPaths("a/", "b"), "a/b");
   EXPECT_EQ(JoinPaths("a/", "/b"), "a/b");

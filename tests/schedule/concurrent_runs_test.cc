@@ -10,7 +10,7 @@
 
 #include "colmap_ext/schedule/work_claims.h"
 #include "colmap_ext/util/file_util.h"
-#include "test_util.h"
+#include "tests/test_util.h"
 
 namespace mpmvs {
 namespace {
