@@ -6,17 +6,11 @@
 #include <memory>
 #include <string>
 
+#include "colmap_ext/plan/backend_options.h"
 #include "kernels/cuda_session.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {
-
-struct BackendOptions {
-  int gpu_index = -1;         // -1: the first CUDA device if usable, else the CPU
-  int num_threads = -1;       // CPU threads (-1: all cores)
-  size_t cache_bytes = 0;     // device cache budget (CUDA)
-  bool cpu_look_ahead = false;  // tests: the CPU assembles the next image first, as CUDA does
-};
 
 class Backend {
  public:

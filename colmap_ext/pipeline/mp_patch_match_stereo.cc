@@ -2,26 +2,21 @@
 
 #include <algorithm>
 #include <chrono>
-#include <exception>
-#include <functional>
-#include <map>
 #include <memory>
 #include <set>
-#include <thread>
 #include <utility>
 
 #include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/pipeline/backend.h"
 #include "colmap_ext/pipeline/depth_check.h"
-#include "colmap_ext/pipeline/output_maps.h"
-#include "colmap_ext/pipeline/reference_problems.h"
-#include "colmap_ext/pipeline/run_plan.h"
-#include "colmap_ext/pipeline/shard.h"
-#include "colmap_ext/pipeline/stage_inputs.h"
-#include "colmap_ext/pipeline/stage_reference.h"
-#include "colmap_ext/pipeline/stage_store.h"
-#include "colmap_ext/pipeline/state_record.h"
-#include "colmap_ext/pipeline/work_claims.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/plan/shard.h"
+#include "colmap_ext/schedule/stage_scheduler.h"
+#include "colmap_ext/store/output_maps.h"
+#include "colmap_ext/store/stage_reference.h"
+#include "colmap_ext/store/stage_store.h"
+#include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
@@ -41,7 +36,7 @@ void AddRunStatistics(const kernels::PatchMatchResult& result, StageSummary* sum
   if (summary->iterations.empty()) summary->iterations = result.iterations;
 }
 
-// Plan; then for each stage and reference image: prepare, run, finish, store.
+// Plan; then for each stage, each reference image the scheduler hands out: run, write, store.
 class Controller {
  public:
   Controller(const MpPatchMatchRun& run, WorkspaceIo* io) : run_(run), io_(io) {}
@@ -49,19 +44,17 @@ class Controller {
   MpPatchMatchSummary Run();
 
  private:
+  // Plans the run, loads the workspace and selects this process's reference images; false
+  // when there is nothing to do (summary says why).
+  bool Plan(MpPatchMatchSummary* summary);
+  // Registers the run with the scheduler, starts the backend, creates the output folders.
+  void Start(MpPatchMatchSummary* summary);
   // Whether every reference of this process already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
   void CreateOutputDirectories() const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
-  // Throws (one stage asked for) or waits (other processes run other images) until the
-  // results the stage reads exist (stage_inputs.h).
-  void AwaitInputs(int stage_index) const;
-  // Claims and prepares this process's k-th image for the stage; nullptr when another live
-  // process holds it and wait is false (work_claims.h).
-  std::unique_ptr<StageReference> ClaimAndPrepare(int stage_index, size_t k, bool wait);
   // Runs or resumes a prepared image, writes its state and maps, releases its claim.
-  void RunReference(int stage_index, std::unique_ptr<StageReference> ref,
-                    const std::function<const kernels::PatchMatchProblem*()>& next, StageSummary* summary,
+  void RunReference(int stage_index, std::unique_ptr<StageReference> ref, StageSummary* summary,
                     ProgressReporter* progress);
   // Output filter, geometric invalidation and the COLMAP maps of a stage that writes them.
   void WriteOutputs(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result);
@@ -72,18 +65,28 @@ class Controller {
   DenseWorkspace workspace_;
   std::vector<ReferenceProblem> problems_;  // every runnable reference (sources of mine_)
   std::vector<size_t> mine_;                // positions in problems_ this process runs
-  std::vector<char> done_;                  // [problem] final maps whole at the start (kept)
-  std::vector<std::vector<char>> needed_;   // [problem][stage] (stage_inputs.h)
   std::set<int> written_;                   // views whose final maps this run wrote
   std::unique_ptr<StageStore> store_;
-  std::unique_ptr<StageInputs> inputs_;
-  std::unique_ptr<WorkClaims> claims_;
+  std::unique_ptr<StageScheduler> scheduler_;
   std::unique_ptr<Backend> backend_;
 };
 
 MpPatchMatchSummary Controller::Run() {
   const auto start = std::chrono::steady_clock::now();
   MpPatchMatchSummary summary;
+  if (Plan(&summary)) {
+    Start(&summary);
+    for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
+      if (plan_.only_stage < 0 || plan_.only_stage == static_cast<int>(s)) RunStage(static_cast<int>(s), &summary);
+    }
+    backend_->LogCacheStats();
+    summary.num_written = static_cast<int>(written_.size());
+  }
+  summary.seconds = SecondsSince(start);
+  return summary;
+}
+
+bool Controller::Plan(MpPatchMatchSummary* summary) {
   plan_ = MakeRunPlan(run_.colmap_options, run_.options, run_.cpu_look_ahead);
   if (run_.workspace_format != "COLMAP") {
     throw Error("--workspace_format " + run_.workspace_format +
@@ -98,19 +101,17 @@ MpPatchMatchSummary Controller::Run() {
   ReferenceProblems loaded =
       LoadReferenceProblems(workspace_, run_.config_path, run_.colmap_options, plan_.max_source_images);
   problems_ = std::move(loaded.runnable);
-  summary.num_skipped_no_sources = loaded.num_skipped_no_sources;
-  summary.num_skipped_no_depth_range = loaded.num_skipped_no_depth_range;
-  summary.num_skipped_missing_files = loaded.num_skipped_missing_files;
-  summary.num_references = static_cast<int>(problems_.size()) + summary.num_skipped_no_sources +
-                           summary.num_skipped_no_depth_range + summary.num_skipped_missing_files;
+  summary->num_skipped_no_sources = loaded.num_skipped_no_sources;
+  summary->num_skipped_no_depth_range = loaded.num_skipped_no_depth_range;
+  summary->num_skipped_missing_files = loaded.num_skipped_missing_files;
+  summary->num_references = static_cast<int>(problems_.size()) + summary->num_skipped_no_sources +
+                            summary->num_skipped_no_depth_range + summary->num_skipped_missing_files;
   if (problems_.empty()) {
-    LogWarning("No reference image can run (" + std::to_string(summary.num_references) +
+    LogWarning("No reference image can run (" + std::to_string(summary->num_references) +
                " listed, all skipped as warned above); nothing written");
-    summary.seconds = SecondsSince(start);
-    return summary;
+    return false;
   }
   store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, StateOptionsText(run_.options));
-  inputs_ = std::make_unique<StageInputs>(plan_, problems_);
   mine_ = SelectShard(workspace_, problems_, plan_.image_names, plan_.shard);
   if (plan_.Partial()) {
     std::string names;
@@ -120,39 +121,27 @@ MpPatchMatchSummary Controller::Run() {
   }
   if (mine_.empty()) {
     LogInfo("This shard has no reference images; nothing to do.");
-    summary.seconds = SecondsSince(start);
-    return summary;
+    return false;
   }
   // Only this process's images: another process may be writing the others' maps.
   if (!plan_.overwrite) {
     for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
   }
-
   if (AllFinalMapsExist()) {
-    summary.num_already_done = static_cast<int>(mine_.size());
+    summary->num_already_done = static_cast<int>(mine_.size());
     LogInfo("All " + std::to_string(mine_.size()) + " depth maps exist already (" + plan_.final_type +
             "); nothing to do. Use --MPMVS.overwrite 1 to recompute.");
-    summary.seconds = SecondsSince(start);
-    return summary;
+    return false;
   }
-  claims_ = std::make_unique<WorkClaims>(JoinPaths(workspace_.IntermediateDir(), "claims"), plan_.claim_lease_seconds);
-  const std::vector<ClaimHolder> others =
-      claims_->RegisterRun(std::to_string(HashText(StateOptionsText(run_.options))));
-  if (!others.empty()) {
-    throw Error("another mp_patch_match_stereo run with other --MPMVS options (" + others.front().Describe() +
-                ") is working on " + run_.workspace_path +
-                "; the two would mix their intermediate results. Wait for it to finish, or run on a copy of "
-                "the workspace. Runs with the same options share a workspace.");
-  }
-  // Over every runnable image: which results this process's images need from the others.
-  for (const ReferenceProblem& p : problems_) {
-    done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
-  }
-  for (size_t i : mine_) summary.num_already_done += done_[i];
-  needed_ = NeededStageResults(plan_, problems_, done_);
+  return true;
+}
 
+void Controller::Start(MpPatchMatchSummary* summary) {
+  scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_,
+                                                StateOptionsText(run_.options), run_.workspace_path);
+  summary->num_already_done += scheduler_->NumDone();
   backend_ = std::make_unique<Backend>(plan_.backend);
-  summary.backend = backend_->Name();
+  summary->backend = backend_->Name();
   if (plan_.backend.gpu_index >= 0 && backend_->Name().rfind("CPU", 0) == 0) {
     // COLMAP scripts pass gpu_index 0 on machines without a GPU: keep running, but say so.
     LogWarning("--PatchMatchStereo.gpu_index " + run_.colmap_options.gpu_index +
@@ -163,15 +152,6 @@ MpPatchMatchSummary Controller::Run() {
   for (const StagePlan& st : plan_.pipeline.stages) stage_names += (stage_names.empty() ? "" : " -> ") + st.name;
   LogInfo("Backend: " + backend_->Name() + "; " + std::to_string(mine_.size()) +
           " reference images; stages: " + stage_names);
-
-  for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
-    if (plan_.only_stage < 0 || plan_.only_stage == static_cast<int>(s)) RunStage(static_cast<int>(s), &summary);
-  }
-  backend_->LogCacheStats();
-
-  summary.num_written = static_cast<int>(written_.size());
-  summary.seconds = SecondsSince(start);
-  return summary;
 }
 
 bool Controller::AllFinalMapsExist() const {
@@ -205,111 +185,17 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
   LogHeading("Stage " + std::to_string(stage_index + 1) + "/" + std::to_string(plan_.pipeline.stages.size()) +
              ": " + stage.name + " (" + StageKindName(stage.kind) + ", " +
              std::to_string(stage.schedule.iterations.size()) + " iterations)");
-  AwaitInputs(stage_index);
+  scheduler_->BeginStage(stage_index);
   ProgressReporter progress("stage " + stage.name, static_cast<int>(mine_.size()));
-
-  // The next reference image, when the backend had it assembled while this one ran (CUDA:
-  // its uploads overlap this image's kernels). Only within a stage: the first image of the
-  // next stage reads this stage's results, the last of which is still being computed. An
-  // error assembling it is raised where it would have been without looking ahead.
-  // Images another live process holds are deferred, then waited for at the end.
-  std::unique_ptr<StageReference> ahead;
-  std::exception_ptr ahead_error;
-  std::vector<size_t> deferred;
-  auto is_deferred = [&](size_t k) { return std::find(deferred.begin(), deferred.end(), k) != deferred.end(); };
-  for (size_t k = 0; k < mine_.size(); ++k) {
-    if (ahead_error) std::rethrow_exception(ahead_error);
-    if (!ahead && is_deferred(k)) continue;
-    std::unique_ptr<StageReference> ref = ahead ? std::move(ahead) : ClaimAndPrepare(stage_index, k, false);
-    if (!ref) {
-      deferred.push_back(k);
-      continue;
-    }
-    auto next = [&, k]() -> const kernels::PatchMatchProblem* {
-      if (k + 1 >= mine_.size()) return nullptr;
-      try {
-        ahead = ClaimAndPrepare(stage_index, k + 1, false);
-      } catch (...) {
-        ahead_error = std::current_exception();
-        return nullptr;
-      }
-      if (!ahead) deferred.push_back(k + 1);
-      return ahead && ahead->action == StageReference::Action::kCompute ? &ahead->pm : nullptr;
-    };
-    RunReference(stage_index, std::move(ref), next, &stage_summary, &progress);
-  }
-  if (ahead_error) std::rethrow_exception(ahead_error);
-  for (size_t k : deferred) {
-    RunReference(stage_index, ClaimAndPrepare(stage_index, k, true), [] { return nullptr; }, &stage_summary,
-                 &progress);
+  while (std::unique_ptr<StageReference> ref = scheduler_->Next()) {
+    RunReference(stage_index, std::move(ref), &stage_summary, &progress);
   }
   stage_summary.seconds = SecondsSince(start);
   summary->stages.push_back(stage_summary);
 }
 
-void Controller::AwaitInputs(int stage_index) const {
-  const auto start = std::chrono::steady_clock::now();
-  double next_report = 0;
-  for (;;) {
-    std::vector<std::string> missing;
-    for (size_t i : mine_) {
-      const ReferenceProblem& p = problems_[i];
-      if (!needed_[i][stage_index]) continue;
-      for (const StageInputs::Input& in : inputs_->Inputs(stage_index, p)) {
-        const bool ours = std::any_of(mine_.begin(), mine_.end(), [&](size_t j) { return problems_[j].ref == in.view; });
-        // In a whole run our own missing results stay missing (the source is left out, as
-        // before). Another process computes every input a needed stage reads (needed_),
-        // also of an image whose final maps exist.
-        if (plan_.only_stage < 0 && ours) continue;
-        const std::string& name = plan_.pipeline.stages[in.stage].name;
-        if (!store_->HasState(in.view, name)) missing.push_back(store_->StatePath(in.view, name));
-      }
-    }
-    std::sort(missing.begin(), missing.end());
-    missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
-    if (missing.empty()) return;
-    std::string list;
-    for (size_t i = 0; i < missing.size() && i < 10; ++i) list += "\n  " + missing[i];
-    if (missing.size() > 10) list += "\n  ... and " + std::to_string(missing.size() - 10) + " more";
-    const std::string& stage = plan_.pipeline.stages[stage_index].name;
-    if (plan_.only_stage >= 0) {
-      throw Error("--MPMVS.stage " + stage + " needs the results of the previous stage for all images and "
-                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first):" + list);
-    }
-    if (SecondsSince(start) >= next_report) {
-      LogInfo("Stage " + stage + ": waiting for " + std::to_string(missing.size()) +
-              " results that other processes compute:" + list);
-      next_report += 60;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  }
-}
-
-std::unique_ptr<StageReference> Controller::ClaimAndPrepare(int stage_index, size_t k, bool wait) {
-  const size_t i = mine_[k];
-  const ReferenceProblem& p = problems_[i];
-  const std::string& stage = plan_.pipeline.stages[stage_index].name;
-  // Finished images whose results nobody needs take no claim: nothing of theirs is written.
-  if (needed_[i][stage_index]) {
-    const std::string& name = workspace_.views[p.ref].name;
-    ClaimHolder holder;
-    bool told = false;
-    while (claims_->TryClaim(name + "." + stage, &holder) == WorkClaims::Result::kHeld) {
-      if (!wait) {
-        LogInfo(name + ": stage " + stage + " is being run by " + holder.Describe() + "; doing other images first");
-        return nullptr;
-      }
-      if (!told) LogInfo(name + ": waiting for " + holder.Describe() + " to finish stage " + stage);
-      told = true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    }
-  }
-  return PrepareStageReference(plan_, workspace_, store_.get(), stage_index, p, done_[i], needed_[i][stage_index]);
-}
-
-void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> ref,
-                              const std::function<const kernels::PatchMatchProblem*()>& next,
-                              StageSummary* summary, ProgressReporter* progress) {
+void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> ref, StageSummary* summary,
+                              ProgressReporter* progress) {
   const StagePlan& stage = plan_.pipeline.stages[stage_index];
   const ReferenceProblem& p = *ref->problem;
   const std::string& name = workspace_.views[p.ref].name;
@@ -318,12 +204,12 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
     case StageReference::Action::kFinalMapsExist:
       ++summary->images_resumed;
       progress->Step(name + " (final maps exist, skipped)");
-      claims_->Release(name + "." + stage.name);  // no-op unless its state was needed
+      scheduler_->Release(*ref);  // no-op unless its state was needed
       return;
     case StageReference::Action::kNoSources:
       LogWarning(name + ": no usable source views in stage " + stage.name + "; skipped");
       progress->Step(name + " (skipped)");
-      claims_->Release(name + "." + stage.name);
+      scheduler_->Release(*ref);
       return;
     case StageReference::Action::kResume:
       result = store_->ReadState(p.ref, stage.name);
@@ -340,7 +226,7 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
       } else {
-        backend_->Run(ref->pm, stage.schedule, &result, next);
+        backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); });
       }
       store_->WriteState(p.ref, stage.name, result);
       if (plan_.write_pictures) {
@@ -351,7 +237,7 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
       break;
   }
   WriteOutputs(stage_index, *ref, &result);
-  claims_->Release(name + "." + stage.name);
+  scheduler_->Release(*ref);
   progress->Step(name + (ref->action == StageReference::Action::kResume ? " (resumed from stereo/mpmvs)" : ""));
 }
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "colmap_ext/io/dense_workspace.h"
-#include "colmap_ext/pipeline/kernel_camera.h"
 #include "colmap_ext/options/patch_match_options.h"
+#include "colmap_ext/plan/kernel_camera.h"
 #include "kernels/patch_match.h"
 
 namespace mpmvs {

@@ -1,12 +1,12 @@
 #include "colmap_ext/pipeline/work_status.h"
 
 #include "colmap_ext/io/workspace_io.h"
-#include "colmap_ext/pipeline/reference_problems.h"
-#include "colmap_ext/pipeline/run_plan.h"
-#include "colmap_ext/pipeline/shard.h"
-#include "colmap_ext/pipeline/stage_inputs.h"
-#include "colmap_ext/pipeline/stage_store.h"
-#include "colmap_ext/pipeline/state_record.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/plan/shard.h"
+#include "colmap_ext/schedule/stage_inputs.h"
+#include "colmap_ext/store/stage_store.h"
+#include "colmap_ext/store/state_record.h"
 
 namespace mpmvs {
 

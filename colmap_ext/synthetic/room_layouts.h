@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/synthetic/synthetic_layouts.h"
+#include "colmap_ext/synthetic/layout_types.h"
 
 namespace mpmvs {
 

@@ -4,7 +4,7 @@
 # from tests/fuzz/corpus/<reader> (seeded by mpmvs_fuzz_seeds when empty). New inputs are
 # merged back into that corpus (-merge=1 keeps only inputs that add coverage); a crashing
 # input lands in build-fuzz/crashes/<reader>/ and stops that reader: copy it to
-# tests/fuzz/crashes/<reader>/ (replayed by tests/fuzz_replay_test.cc) and fix the reader.
+# tests/fuzz/crashes/<reader>/ (replayed by tests/fuzz/fuzz_replay_test.cc) and fix the reader.
 # Usage: tests/fuzz/run_fuzzers.sh [reader...]   (default: every tests/fuzz/*_fuzzer.cc)
 # TIMEOUT (s, default 30): a single input slower than this is a finding (on a loaded machine
 # 10 s gave false timeouts).

@@ -1,0 +1,14 @@
+#pragma once
+// Which backend a run uses and how (pipeline/backend.h runs it): part of the run plan.
+#include <cstddef>
+
+namespace mpmvs {
+
+struct BackendOptions {
+  int gpu_index = -1;         // -1: the first CUDA device if usable, else the CPU
+  int num_threads = -1;       // CPU threads (-1: all cores)
+  size_t cache_bytes = 0;     // device cache budget (CUDA)
+  bool cpu_look_ahead = false;  // tests: the CPU assembles the next image first, as CUDA does
+};
+
+}  // namespace mpmvs

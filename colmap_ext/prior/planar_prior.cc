@@ -1,0 +1,341 @@
+#include "colmap_ext/prior/planar_prior.h"
+
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "colmap_ext/util/thread_range.h"
+#include "kernels/patch_match_pixel.h"
+
+namespace mpmvs {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
+using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
+
+using kernels::Vec3;
+
+Vec3 VertexPoint(const kernels::Camera& camera, const PlanarPriorVertex& v) {
+  return v.depth * kernels::PixelRay(camera, static_cast<float>(v.u), static_cast<float>(v.v));
+}
+
+// The plane with unit normal n through X, its normal turned towards the camera.
+kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
+  if (kernels::Dot(n, X) > 0.f) n = -n;
+  return kernels::Plane{n, -kernels::Dot(n, X)};
+}
+
+// Each triangle's plane by a vote of the vertices around it (kernels/DESIGN.md 15): the
+// candidates are the own planes of the triangles that share a vertex with it (itself
+// first) and its vertices' tangent planes; each vertex within two rings of the triangle's
+// vertices votes for the candidates on which it lies; the most votes win, a tie keeps the
+// earlier candidate. A wall triangle whose corners sit on an object in front of the wall,
+// or whose three vertices lie on three surfaces, takes the plane that its neighbourhood
+// agrees on instead of a plane through empty space. A vertex's vote weighs the square root
+// of its share of the triangles' area, i.e. its spacing in pixels: a textured object, dense
+// with vertices, does not outvote by number alone the few vertices that span the plain wall
+// beside it (kernels/DESIGN.md 20). "On the plane" is up to 1 % in front of it but only
+// 0.7 % behind it: the plane would hide a vertex behind it, and a plane between a wall and a
+// frame a little in front of it no longer gathers the votes of both (kernels/DESIGN.md 26).
+std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
+                                        const std::vector<std::array<int, 3>>& faces,
+                                        const std::vector<kernels::Plane>& own, int num_threads,
+                                        int* num_changed) {
+  constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
+  const size_t nv = vertices.size();
+  std::vector<Vec3> points(nv), rays(nv);
+  for (size_t i = 0; i < nv; ++i) {
+    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
+    points[i] = vertices[i].depth * rays[i];
+  }
+  std::vector<std::vector<int>> ring(nv), incident(nv);
+  std::vector<float> area(nv, 0.f);  // a third of the incident triangles' area, in pixels
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const PlanarPriorVertex& a = vertices[faces[f][0]];
+    const PlanarPriorVertex& b = vertices[faces[f][1]];
+    const PlanarPriorVertex& c = vertices[faces[f][2]];
+    const float third =
+        std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
+    for (int k = 0; k < 3; ++k) {
+      area[faces[f][k]] += third;
+      incident[faces[f][k]].push_back(static_cast<int>(f));
+      ring[faces[f][k]].push_back(faces[f][(k + 1) % 3]);
+      ring[faces[f][k]].push_back(faces[f][(k + 2) % 3]);
+    }
+  }
+  std::vector<float> weight(nv);
+  for (size_t i = 0; i < nv; ++i) {
+    weight[i] = std::sqrt(area[i]);
+    ring[i].push_back(static_cast<int>(i));
+    std::sort(ring[i].begin(), ring[i].end());
+    ring[i].erase(std::unique(ring[i].begin(), ring[i].end()), ring[i].end());
+  }
+  std::vector<kernels::Plane> chosen(faces.size());
+  std::vector<uint8_t> changed(faces.size(), 0);
+  // Each face reads the shared tables and writes only its own entries: any split over
+  // threads gives the same planes.
+  RunRangeInThreads(static_cast<int>(faces.size()), num_threads, [&](int begin, int end) {
+    std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
+    std::vector<int> voters;
+    std::vector<kernels::Plane> candidates;
+    for (int f = begin; f < end; ++f) {
+      const int stamp = f;
+      voters.clear();
+      candidates.assign(1, own[f]);
+      face_stamp[f] = stamp;
+      for (int k = 0; k < 3; ++k) {
+        const int v = faces[f][k];
+        for (int r1 : ring[v]) {
+          for (int r2 : ring[r1]) {
+            if (voter_stamp[r2] != stamp) {
+              voter_stamp[r2] = stamp;
+              voters.push_back(r2);
+            }
+          }
+        }
+        const Vec3& normal = vertices[v].normal;
+        if (kernels::Norm(normal) > 0.f) candidates.push_back(FacingPlane(kernels::Normalize(normal), points[v]));
+        for (int g : incident[v]) {
+          if (face_stamp[g] == stamp) continue;
+          face_stamp[g] = stamp;
+          candidates.push_back(own[g]);
+        }
+      }
+      int best = 0;
+      float best_votes = -1.f;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        float votes = 0.f;
+        for (int j : voters) {
+          const float z = kernels::PlaneDepth(candidates[c], rays[j]);
+          const float behind = (vertices[j].depth - z) / vertices[j].depth;
+          if (behind > -kInFront && behind < kBehind) votes += weight[j];
+        }
+        if (votes > best_votes) {
+          best = static_cast<int>(c);
+          best_votes = votes;
+        }
+      }
+      chosen[f] = candidates[best];
+      changed[f] = best != 0;
+    }
+  });
+  *num_changed = 0;
+  for (uint8_t c : changed) *num_changed += c;
+  return chosen;
+}
+
+// Appends the vertices of outside that lie outside the W x H image, within half its size of
+// its border, with depth in [depth_min, depth_max]: at most per_cell in each cell of the
+// selection grid extended over that margin, first come first kept.
+int AddOutsideVertices(int W, int H, float depth_min, float depth_max, const PlanarPriorOptions& options,
+                       const std::vector<PlanarPriorVertex>& outside, std::vector<PlanarPriorVertex>* vertices) {
+  const int cs = options.cell_size;
+  const int margin_x = (W / 2 + cs - 1) / cs, margin_y = (H / 2 + cs - 1) / cs;  // cells
+  const int grid_x = (W + cs - 1) / cs + 2 * margin_x, grid_y = (H + cs - 1) / cs + 2 * margin_y;
+  std::vector<int> count(static_cast<size_t>(grid_x) * grid_y, 0);
+  int added = 0;
+  for (const PlanarPriorVertex& v : outside) {
+    if (v.u >= 0 && v.v >= 0 && v.u < W && v.v < H) continue;
+    if (!(v.depth >= depth_min && v.depth <= depth_max)) continue;
+    const int cx = (v.u >= 0 ? v.u / cs : -((-v.u + cs - 1) / cs)) + margin_x;
+    const int cy = (v.v >= 0 ? v.v / cs : -((-v.v + cs - 1) / cs)) + margin_y;
+    if (cx < 0 || cy < 0 || cx >= grid_x || cy >= grid_y) continue;
+    int& c = count[static_cast<size_t>(cy) * grid_x + cx];
+    if (c >= options.points_per_cell) continue;
+    ++c;
+    vertices->push_back(v);
+    ++added;
+  }
+  return added;
+}
+
+}  // namespace
+
+std::vector<uint8_t> BentDepthMask(int W, int H, const std::vector<float>& depth, int step, float max_relative) {
+  std::vector<uint8_t> bent(static_cast<size_t>(W) * H, 0);
+  constexpr int kDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      if (!(depth[i] > 0.f)) continue;
+      const float inverse = 1.f / depth[i];
+      for (const auto& d : kDirections) {
+        const int u0 = u - step * d[0], v0 = v - step * d[1], u1 = u + step * d[0], v1 = v + step * d[1];
+        if (u0 < 0 || u1 < 0 || u0 >= W || u1 >= W || v0 < 0 || v1 < 0 || v0 >= H || v1 >= H) continue;
+        const float z0 = depth[static_cast<size_t>(v0) * W + u0], z1 = depth[static_cast<size_t>(v1) * W + u1];
+        if (!(z0 > 0.f && z1 > 0.f)) continue;
+        // Inverse depth is affine in the pixel coordinates on any plane.
+        if (std::abs(1.f / z0 + 1.f / z1 - 2.f * inverse) > max_relative * inverse) {
+          bent[i] = 1;
+          break;
+        }
+      }
+    }
+  }
+  return bent;
+}
+
+std::vector<PlanarPriorVertex> TransferPriorVertices(const kernels::Camera& source,
+                                                     const kernels::Camera& reference,
+                                                     const std::vector<PlanarPriorVertex>& vertices) {
+  // rel maps reference-camera points to the source camera; Rinv, tinv map them back.
+  const kernels::RelativePose rel = kernels::ComputeRelativePose(reference, source);
+  const Vec3 t{rel.tinv[0], rel.tinv[1], rel.tinv[2]};
+  // Pixels far beyond any margin a caller keeps would overflow int.
+  const float limit = 8.f * static_cast<float>(std::max(reference.width, reference.height));
+  std::vector<PlanarPriorVertex> out;
+  out.reserve(vertices.size());
+  for (const PlanarPriorVertex& v : vertices) {
+    const Vec3 X = kernels::MatVec(rel.Rinv, VertexPoint(source, v)) + t;
+    float u, w;
+    if (!kernels::ProjectCameraPoint(reference, X, &u, &w)) continue;
+    if (!(std::abs(u) < limit && std::abs(w) < limit)) continue;
+    PlanarPriorVertex moved{static_cast<int>(std::lround(u)), static_cast<int>(std::lround(w)), X.z};
+    if (kernels::Norm(v.normal) > 0.f) moved.normal = kernels::MatVec(rel.Rinv, v.normal);
+    out.push_back(moved);
+  }
+  return out;
+}
+
+std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vector<float>& depth,
+                                                   const std::vector<float>& photo_cost,
+                                                   const std::vector<float>& geo_error,
+                                                   const PlanarPriorOptions& options,
+                                                   const std::vector<float>* planes,
+                                                   const std::vector<uint8_t>* excluded) {
+  const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
+  const int per_cell = geometric ? options.points_per_cell : 1;
+  const int cs = options.cell_size;
+  std::vector<PlanarPriorVertex> vertices;
+  std::vector<std::pair<float, int>> candidates;
+  for (int cy = 0; cy < H; cy += cs) {
+    for (int cx = 0; cx < W; cx += cs) {
+      candidates.clear();
+      for (int v = cy; v < std::min(cy + cs, H); ++v) {
+        for (int u = cx; u < std::min(cx + cs, W); ++u) {
+          const int i = v * W + u;
+          // A plain window matches nearby wrong planes about as well as the right one (on
+          // smooth shading, consistently across views): it anchors no triangle. Nor does a
+          // pixel where the depth bends, which may carry a nearer surface's depth.
+          if (!(depth[i] > 0.f) || (excluded && (*excluded)[i])) continue;
+          if (geometric) {
+            // MP-MVS (paper): photometric cost < 0.2 and reprojection error < 1 px.
+            if (photo_cost[i] < options.max_photo_cost && geo_error[i] < options.max_geom_error)
+              candidates.push_back({photo_cost[i] + 0.2f * geo_error[i], i});
+          } else if (photo_cost[i] < options.max_cost_photometric) {
+            candidates.push_back({photo_cost[i], i});
+          }
+        }
+      }
+      const int keep = std::min<int>(per_cell, candidates.size());
+      std::partial_sort(candidates.begin(), candidates.begin() + keep, candidates.end());
+      for (int k = 0; k < keep; ++k) {
+        const int i = candidates[k].second;
+        PlanarPriorVertex vertex{i % W, i / W, depth[i]};
+        if (planes) vertex.normal = Vec3{(*planes)[4 * i], (*planes)[4 * i + 1], (*planes)[4 * i + 2]};
+        vertices.push_back(vertex);
+      }
+    }
+  }
+  return vertices;
+}
+
+PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
+                                  const std::vector<float>& photo_cost,
+                                  const std::vector<float>& geo_error, float depth_min,
+                                  float depth_max, const PlanarPriorOptions& options,
+                                  const std::vector<float>* planes,
+                                  const std::vector<uint8_t>* excluded,
+                                  const std::vector<PlanarPriorVertex>* outside_vertices) {
+  const int W = camera.width, H = camera.height;
+  PlanarPriorModel model;
+  model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
+  model.label.assign(static_cast<size_t>(W) * H, 0);
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded);
+  if (outside_vertices) {
+    model.num_outside_vertices =
+        AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);
+  }
+  if (model.vertices.size() < 3) return model;
+
+  std::vector<std::pair<Kernel::Point_2, int>> points;
+  points.reserve(model.vertices.size());
+  for (size_t i = 0; i < model.vertices.size(); ++i) {
+    points.push_back({Kernel::Point_2(model.vertices[i].u, model.vertices[i].v), static_cast<int>(i)});
+  }
+  Delaunay triangulation;
+  triangulation.insert(points.begin(), points.end());
+
+  // Every triangle's own plane through its three vertices, facing the camera.
+  std::vector<std::array<int, 3>> faces;
+  std::vector<kernels::Plane> own;
+  for (auto face = triangulation.finite_faces_begin(); face != triangulation.finite_faces_end(); ++face) {
+    std::array<int, 3> idx;
+    Vec3 X[3];
+    for (int k = 0; k < 3; ++k) {
+      idx[k] = face->vertex(k)->info();
+      X[k] = VertexPoint(camera, model.vertices[idx[k]]);
+    }
+    Vec3 n = kernels::Cross(X[1] - X[0], X[2] - X[0]);
+    if (!(kernels::Norm(n) > 0.f)) continue;
+    faces.push_back(idx);
+    own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
+  }
+  const std::vector<kernels::Plane> chosen =
+      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, options.num_threads,
+                                                         &model.num_voted_triangles) : own;
+
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const std::array<int, 3>& idx = faces[f];
+    const kernels::Plane& plane = chosen[f];
+    model.triangles.insert(model.triangles.end(), {idx[0], idx[1], idx[2]});
+
+    // Rasterise: pixels whose centre lies inside the triangle (edges inclusive).
+    const PlanarPriorVertex& a = model.vertices[idx[0]];
+    const PlanarPriorVertex& b = model.vertices[idx[1]];
+    const PlanarPriorVertex& c = model.vertices[idx[2]];
+    const int umin = std::max(0, std::min({a.u, b.u, c.u}));
+    const int umax = std::min(W - 1, std::max({a.u, b.u, c.u}));
+    const int vmin = std::max(0, std::min({a.v, b.v, c.v}));
+    const int vmax = std::min(H - 1, std::max({a.v, b.v, c.v}));
+    const float area = float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u);
+    if (area == 0.f) continue;
+    for (int v = vmin; v <= vmax; ++v) {
+      for (int u = umin; u <= umax; ++u) {
+        const float w0 = (float(b.u - u) * (c.v - v) - float(b.v - v) * (c.u - u)) / area;
+        const float w1 = (float(c.u - u) * (a.v - v) - float(c.v - v) * (a.u - u)) / area;
+        const float w2 = 1.f - w0 - w1;
+        if (w0 < -1e-6f || w1 < -1e-6f || w2 < -1e-6f) continue;
+        const float z_prior = kernels::PlaneDepth(plane, kernels::PixelRay(camera, float(u), float(v)));
+        if (!(z_prior >= depth_min && z_prior <= depth_max)) continue;
+        const size_t i = static_cast<size_t>(v) * W + u;
+        model.label[i] = 1;
+        model.plane[4 * i + 0] = plane.n.x;
+        model.plane[4 * i + 1] = plane.n.y;
+        model.plane[4 * i + 2] = plane.n.z;
+        model.plane[4 * i + 3] = plane.d;
+      }
+    }
+  }
+  return model;
+}
+
+std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera) {
+  std::vector<float> depth(prior.label.size(), 0.f);
+  for (size_t k = 0; k < prior.label.size(); ++k) {
+    if (!prior.label[k]) continue;
+    const float* p = &prior.plane[4 * k];
+    const kernels::Plane plane{{p[0], p[1], p[2]}, p[3]};
+    depth[k] = kernels::PlaneDepth(
+        plane, kernels::PixelRay(camera, float(k % camera.width), float(k / camera.width)));
+  }
+  return depth;
+}
+
+}  // namespace mpmvs

@@ -1,0 +1,156 @@
+#include "colmap_ext/schedule/stage_scheduler.h"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+#include <utility>
+
+#include "colmap_ext/store/state_record.h"
+#include "colmap_ext/util/error.h"
+#include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
+
+namespace mpmvs {
+
+StageScheduler::StageScheduler(const RunPlan& plan, const DenseWorkspace& workspace, StageStore* store,
+                               const std::vector<ReferenceProblem>& problems, const std::vector<size_t>& mine,
+                               const std::string& options_text, const std::string& workspace_path)
+    : plan_(plan),
+      workspace_(workspace),
+      store_(store),
+      problems_(problems),
+      mine_(mine),
+      claims_(std::make_unique<WorkClaims>(JoinPaths(workspace.IntermediateDir(), "claims"),
+                                           plan.claim_lease_seconds)),
+      inputs_(plan, problems) {
+  const std::vector<ClaimHolder> others = claims_->RegisterRun(std::to_string(HashText(options_text)));
+  if (!others.empty()) {
+    throw Error("another mp_patch_match_stereo run with other --MPMVS options (" + others.front().Describe() +
+                ") is working on " + workspace_path +
+                "; the two would mix their intermediate results. Wait for it to finish, or run on a copy of "
+                "the workspace. Runs with the same options share a workspace.");
+  }
+  // Over every runnable image: which results this process's images need from the others.
+  for (const ReferenceProblem& p : problems_) {
+    done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
+  }
+  needed_ = NeededStageResults(plan_, problems_, done_);
+}
+
+int StageScheduler::NumDone() const {
+  int n = 0;
+  for (size_t i : mine_) n += done_[i];
+  return n;
+}
+
+void StageScheduler::BeginStage(int stage_index) {
+  stage_ = stage_index;
+  next_ = 0;
+  look_ahead_ = false;
+  deferred_.clear();
+  next_deferred_ = 0;
+  ahead_.reset();
+  ahead_error_ = nullptr;
+  AwaitInputs();
+}
+
+std::unique_ptr<StageReference> StageScheduler::Next() {
+  look_ahead_ = false;
+  while (next_ < mine_.size()) {
+    if (ahead_error_) std::rethrow_exception(ahead_error_);
+    const size_t k = next_++;
+    if (!ahead_ && std::find(deferred_.begin(), deferred_.end(), k) != deferred_.end()) continue;
+    std::unique_ptr<StageReference> ref = ahead_ ? std::move(ahead_) : ClaimAndPrepare(k, false);
+    if (!ref) {
+      deferred_.push_back(k);
+      continue;
+    }
+    running_ = k;
+    look_ahead_ = true;
+    return ref;
+  }
+  if (ahead_error_) std::rethrow_exception(ahead_error_);
+  if (next_deferred_ < deferred_.size()) return ClaimAndPrepare(deferred_[next_deferred_++], true);
+  return nullptr;
+}
+
+const kernels::PatchMatchProblem* StageScheduler::LookAhead() {
+  if (!look_ahead_ || running_ + 1 >= mine_.size()) return nullptr;
+  try {
+    ahead_ = ClaimAndPrepare(running_ + 1, false);
+  } catch (...) {
+    ahead_error_ = std::current_exception();
+    return nullptr;
+  }
+  if (!ahead_) deferred_.push_back(running_ + 1);
+  return ahead_ && ahead_->action == StageReference::Action::kCompute ? &ahead_->pm : nullptr;
+}
+
+void StageScheduler::Release(const StageReference& ref) { claims_->Release(ClaimKey(ref.problem->ref)); }
+
+std::string StageScheduler::ClaimKey(int view) const {
+  return workspace_.views[view].name + "." + plan_.pipeline.stages[stage_].name;
+}
+
+void StageScheduler::AwaitInputs() const {
+  const auto start = std::chrono::steady_clock::now();
+  double next_report = 0;
+  for (;;) {
+    std::vector<std::string> missing;
+    for (size_t i : mine_) {
+      const ReferenceProblem& p = problems_[i];
+      if (!needed_[i][stage_]) continue;
+      for (const StageInputs::Input& in : inputs_.Inputs(stage_, p)) {
+        const bool ours = std::any_of(mine_.begin(), mine_.end(), [&](size_t j) { return problems_[j].ref == in.view; });
+        // In a whole run our own missing results stay missing (the source is left out, as
+        // before). Another process computes every input a needed stage reads (needed_),
+        // also of an image whose final maps exist.
+        if (plan_.only_stage < 0 && ours) continue;
+        const std::string& name = plan_.pipeline.stages[in.stage].name;
+        if (!store_->HasState(in.view, name)) missing.push_back(store_->StatePath(in.view, name));
+      }
+    }
+    std::sort(missing.begin(), missing.end());
+    missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+    if (missing.empty()) return;
+    std::string list;
+    for (size_t i = 0; i < missing.size() && i < 10; ++i) list += "\n  " + missing[i];
+    if (missing.size() > 10) list += "\n  ... and " + std::to_string(missing.size() - 10) + " more";
+    const std::string& stage = plan_.pipeline.stages[stage_].name;
+    if (plan_.only_stage >= 0) {
+      throw Error("--MPMVS.stage " + stage + " needs the results of the previous stage for all images and "
+                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first):" + list);
+    }
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (elapsed >= next_report) {
+      LogInfo("Stage " + stage + ": waiting for " + std::to_string(missing.size()) +
+              " results that other processes compute:" + list);
+      next_report += 60;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+}
+
+std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool wait) {
+  const size_t i = mine_[k];
+  const ReferenceProblem& p = problems_[i];
+  const std::string& stage = plan_.pipeline.stages[stage_].name;
+  // Finished images whose results nobody needs take no claim: nothing of theirs is written.
+  if (needed_[i][stage_]) {
+    const std::string& name = workspace_.views[p.ref].name;
+    ClaimHolder holder;
+    bool told = false;
+    while (claims_->TryClaim(ClaimKey(p.ref), &holder) == WorkClaims::Result::kHeld) {
+      if (!wait) {
+        LogInfo(name + ": stage " + stage + " is being run by " + holder.Describe() + "; doing other images first");
+        return nullptr;
+      }
+      if (!told) LogInfo(name + ": waiting for " + holder.Describe() + " to finish stage " + stage);
+      told = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  }
+  return PrepareStageReference(plan_, workspace_, store_, stage_, p, done_[i], needed_[i][stage_]);
+}
+
+}  // namespace mpmvs

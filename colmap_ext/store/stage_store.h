@@ -1,0 +1,92 @@
+#pragma once
+// What the stages hand each other and share, like COLMAP's CachedWorkspace: every stage's
+// result per image in stereo/mpmvs/NAME.STAGE.state.bin (the only way a stage reads another
+// stage's work) with its record NAME.STAGE.state.json (state_record.h), and the grey images, colour guides and source depth maps that several
+// reference images use, in LRU caches bounded by --PatchMatchStereo.cache_size (a third each).
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "colmap_ext/io/dense_workspace.h"
+#include "colmap_ext/io/workspace_io.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/store/state_record.h"
+#include "colmap_ext/util/lru_cache.h"
+#include "kernels/patch_match.h"
+
+namespace mpmvs {
+
+// Depth of each pixel's plane (0 where invalid or outside [depth_min, depth_max]).
+std::vector<float> ResultDepth(const kernels::PatchMatchResult& result, const kernels::Camera& camera,
+                               float depth_min, float depth_max);
+
+class StageStore {
+ public:
+  // workspace, io and plan must outlive the store. problems: every view that runs (a source
+  // outside them has no stage results). options_text: StateOptionsText of the run.
+  StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const RunPlan& plan,
+             const std::vector<ReferenceProblem>& problems, const std::string& options_text);
+
+  std::string StatePath(int view, const std::string& stage) const;
+  std::string StateRecordPath(int view, const std::string& stage) const;
+  // Whether the stage's result of the view can be used: the view runs, and its state file
+  // is whole and was made with this run's options and inputs (its record says so). A state
+  // that exists but fails is reported once, with the reason, and counts as absent (the
+  // stage recomputes it).
+  bool HasState(int view, const std::string& stage);
+  // Throws Error naming the file when it is damaged or of another size than the view.
+  kernels::PatchMatchResult ReadState(int view, const std::string& stage) const;
+  // Writes the state file, then its record.
+  void WriteState(int view, const std::string& stage, const kernels::PatchMatchResult& result);
+  // Whether the final COLMAP maps of this type (and the consistency graph if asked) exist
+  // and are whole maps of the view's current size (header and length; the values are not read).
+  bool FinalOutputsExist(int view, const std::string& type) const;
+  // Whether every final map the run writes for the view (photometric and, with geometric
+  // consistency, geometric) is there and whole.
+  bool AllFinalOutputsExist(int view) const;
+  // Moves every final map of the view that exists but is not a whole map of the view's size
+  // aside to FILE.damaged-N, with a warning, so that it is recomputed. Returns how many.
+  int MoveAsideDamagedFinalOutputs(int view) const;
+
+  std::shared_ptr<const GrayImage> Image(int view) { return images_.Get(view); }
+  // Empty for a grey picture: nothing to read or upload.
+  std::shared_ptr<const std::vector<float>> ChromaGuide(int view) { return chroma_guides_.Get(view); }
+  // The depth map of stage_index's result of a view, for the geometric term of its neighbours.
+  std::shared_ptr<const std::vector<float>> SourceDepth(int stage_index, int view) {
+    return depths_.Get({stage_index, view});
+  }
+
+ private:
+  std::vector<float> ReadChromaGuide(int view) const;
+  // The record a state of this view and stage made now would carry (checksum 0).
+  StateRecord ExpectedRecord(int view, const std::string& stage);
+  // "" when the existing state file is usable, else why not.
+  std::string CheckState(int view, const std::string& stage);
+  // Identity of a view's picture and camera: name, size, K, R, T and the image file's hash.
+  std::string ViewIdentity(int view);
+  // (damaged file, why) of each final map of the view and type that exists but is not whole.
+  std::vector<std::pair<std::string, std::string>> DamagedFinalOutputs(int view, const std::string& type) const;
+
+  const DenseWorkspace& workspace_;
+  WorkspaceIo* io_;
+  const RunPlan& plan_;
+  std::map<int, ReferenceProblem> problems_;
+  std::string options_text_;
+  std::map<int, std::string> view_identities_;
+  struct StateVerdict {
+    bool usable = false;
+    std::string why;    // why not
+    std::string stamp;  // StateStamp when judged
+  };
+  // Modification times and sizes of the state file and its record.
+  std::string StateStamp(int view, const std::string& stage) const;
+  std::map<std::pair<int, std::string>, StateVerdict> state_usable_;  // HasState's verdicts
+  LruCache<int, GrayImage> images_;
+  LruCache<int, std::vector<float>> chroma_guides_;
+  LruCache<std::pair<int, int>, std::vector<float>> depths_;
+};
+
+}  // namespace mpmvs

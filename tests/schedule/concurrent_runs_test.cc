@@ -1,0 +1,123 @@
+// Two mp_patch_match_stereo runs on one workspace (schedule/work_claims.h): a run leaves an
+// image whose stage another live process holds, does its other images, then waits for it;
+// a run with other options stops before it writes anything.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "colmap_ext/schedule/work_claims.h"
+#include "colmap_ext/util/file_util.h"
+#include "tests/test_util.h"
+
+namespace mpmvs {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Exe() { return "'" + test::ColmapMpExecutable() + "'"; }
+
+std::string RunCommandLine(const std::string& ws) {
+  return Exe() + " mp_patch_match_stereo --workspace_path " + ws +
+         " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures 0";
+}
+
+// sha256 of every depth and normal map of the workspace, one line per file.
+std::string MapSums(const std::string& ws, const std::string& out) {
+  test::RunCommand("cd " + ws + "/stereo && sha256sum depth_maps/*.bin normal_maps/*.bin > " + out);
+  return test::ReadTextFile(out);
+}
+
+// Waits up to 120 s for text to appear in the file; true when it did.
+bool WaitForText(const std::string& path, const std::string& text) {
+  for (int i = 0; i < 1200; ++i) {
+    if (test::ReadTextFile(path).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
+}
+
+class ConcurrentRuns : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_EQ(test::RunCommand(Exe() + " generate_scene --scene indoor --width 96 --height 72 --num_views 4 "
+                                       "--output_path " + tmp_ / "base",
+                               tmp_ / "gen.log"),
+              0);
+    test::RunCommand("cp -r " + tmp_ / "base" + " " + tmp_ / "one" + " && cp -r " + tmp_ / "base" + " " +
+                     tmp_ / "shared");
+    ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "one"), tmp_ / "one.log"), 0);
+    expected_ = MapSums(tmp_ / "one", tmp_ / "one.sums");
+    ASSERT_FALSE(expected_.empty());
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(tmp_ / "shared/images")) names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    ASSERT_FALSE(names.empty());
+    first_image_ = names.front();
+  }
+
+  std::string Claims() const { return tmp_ / "shared/stereo/mpmvs/claims"; }
+
+  test::TempDir tmp_;
+  std::string expected_;
+  std::string first_image_;
+};
+
+TEST_F(ConcurrentRuns, HeldImageIsLeftForLaterThenWaitedFor) {
+  WorkClaims other(Claims(), 600);  // this test process plays the other live run
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  int rc = -1;
+  std::thread run([&] { rc = test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "shared.log"); });
+  const bool waited = WaitForText(tmp_ / "shared.log", "to finish stage photometric");
+  other.Release(first_image_ + ".photometric");
+  run.join();
+  const std::string log = test::ReadTextFile(tmp_ / "shared.log");
+  EXPECT_TRUE(waited) << log;
+  EXPECT_NE(log.find(first_image_ + ": stage photometric is being run by"), std::string::npos) << log;
+  EXPECT_NE(log.find("doing other images first"), std::string::npos) << log;
+  // It did the other images before waiting: their photometric maps exist by then.
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+TEST_F(ConcurrentRuns, TwoRunsAtOnceWriteTheMapsOfOne) {
+  const std::string cmd = RunCommandLine(tmp_ / "shared");
+  ASSERT_EQ(test::RunCommand("(" + cmd + " > " + tmp_ / "a.log" + " 2>&1 & " + cmd + " > " + tmp_ / "b.log" +
+                             " 2>&1; r=$?; wait $! && exit $r)"),
+            0)
+      << test::ReadTextFile(tmp_ / "a.log") << test::ReadTextFile(tmp_ / "b.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+  // Nothing left behind: every claim released, the runs' registrations gone.
+  int left = 0;
+  for (const auto& e : fs::recursive_directory_iterator(Claims())) left += e.is_regular_file();
+  EXPECT_EQ(left, 0);
+}
+
+TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
+  test::RunCommand("rm -rf " + tmp_ / "shared/stereo/depth_maps/*" + " " + tmp_ / "shared/stereo/normal_maps/*");
+  {
+    WorkClaims other(Claims(), 600);
+    EXPECT_TRUE(other.RegisterRun("other-options").empty());
+    EXPECT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "refused.log"), 1);
+    const std::string log = test::ReadTextFile(tmp_ / "refused.log");
+    EXPECT_NE(log.find("another mp_patch_match_stereo run with other --MPMVS options (" + WorkClaims::ThisHost() +
+                       ":" + std::to_string(::getpid()) + ")"),
+              std::string::npos)
+        << log;
+    int written = 0;
+    for (const auto& e : fs::recursive_directory_iterator(tmp_ / "shared/stereo")) {
+      const std::string name = e.path().filename();
+      written += name.find(".state.") != std::string::npos || name.find(".bin") != std::string::npos;
+    }
+    EXPECT_EQ(written, 0);
+  }
+  // Once the other run has ended, the same command runs.
+  ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "after.log"), 0)
+      << test::ReadTextFile(tmp_ / "after.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+}  // namespace
+}  // namespace mpmvs
