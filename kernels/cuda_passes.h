@@ -1,7 +1,7 @@
 #pragma once
 // The CUDA backend's passes without the CUDA API: what one thread of each kernel does,
 // and which kernel runs over which launch layout into which NCC counter. cuda_backend.cu
-// launches them on the device; tests/cuda_backend_test.cc runs the same sequence with the
+// launches them on the device; tests/kernels/cuda_backend_test.cc runs the same sequence with the
 // same thread bodies on the host, so everything but the CUDA calls is tested without a GPU.
 // No CUDA types here.
 #include "kernels/launch_layout.h"

@@ -3,7 +3,7 @@
 // which inputs are uploaded and which are already on the device, which cached entries are
 // evicted under the byte budget, where the per-problem inputs go, and how the uploads are
 // ordered before the problem's kernels. Plain data and no CUDA, so that the plan is unit
-// tested on machines without a GPU (tests/device_cache_plan_test.cc); cuda_session.cu only
+// tested on machines without a GPU (tests/kernels/device_cache_plan_test.cc); cuda_session.cu only
 // executes it (allocations, cudaMemcpyAsync, cudaEventRecord, cudaStreamWaitEvent).
 #include <cstddef>
 #include <cstdint>

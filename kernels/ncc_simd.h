@@ -1,7 +1,7 @@
 #pragma once
 // Vectorised specialisation of ComputeNccCost for the CPU backend (AVX2/FMA: 8 window
 // samples per instruction; AVX-512: 16) with gathered bilinear fetches. Same inputs, same
-// result as the scalar version within float rounding: tests/kernels_test.cc checks it
+// result as the scalar version within float rounding: tests/kernels/kernels_test.cc checks it
 // through CpuBackendNccCost, compiled with the backend's own flags. Host only.
 #include <vector>
 

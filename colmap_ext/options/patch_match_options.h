@@ -181,7 +181,7 @@ bool ApplyPreset(const std::string& preset, const std::function<bool(const std::
 
 // The values of the options that change results, one "name value" line each in declaration
 // order (doubles with 17 digits; kResultWhenSet options only away from their default): the
-// options part of the state fingerprint (pipeline/state_record.h).
+// options part of the state fingerprint (store/state_record.h).
 std::string ResultOptionsText(const MpMvsOptions& options);
 
 // docs/options.md: every option with its default, paper value, range and help.

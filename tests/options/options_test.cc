@@ -11,8 +11,8 @@
 #include "colmap_ext/cli/option_parser.h"
 #include "colmap_ext/cli/patch_match_flags.h"
 #include "colmap_ext/options/patch_match_options.h"
-#include "colmap_ext/pipeline/stage_plan.h"
-#include "colmap_ext/pipeline/state_record.h"
+#include "colmap_ext/plan/stage_plan.h"
+#include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/error.h"
 
 namespace mpmvs {
