@@ -235,7 +235,7 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
   PatchMatchSchedule schedule;
   schedule.geometric = geometric;
   // Reprojection errors clamp above the filter's threshold, so the clamp never passes a view.
-  schedule.geom_max_error = filter.geom_max_error + 1.f;
+  schedule.geom_error_clamp = filter.max_reprojection_error + 1.f;
   PassParams params = MakePassParams(problem, schedule, sources.data());
   params.window = WindowForScale(0);  // once, not per pixel and view (36 square roots)
   return InvalidateRejectedPixels(num_threads, result, [&](const PixelState& state, int u, int v) {

@@ -15,7 +15,7 @@ struct FilterParams {
   float min_ncc = 0.1f;
   float min_triangulation_angle_deg = 3.f;
   int min_num_consistent = 2;
-  float geom_max_error = 1.f;
+  float max_reprojection_error = 1.f;
 };
 
 template <class Ncc>
@@ -42,7 +42,7 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
     const Vec3 to_ref = Normalize(-X);
     const Vec3 to_src = Normalize(Vec3{src.rel.tinv[0], src.rel.tinv[1], src.rel.tinv[2]} - X);
     if (Dot(to_ref, to_src) > cos_min) continue;
-    if (params.geometric && GeometricError(params, src, u, v, ray, depth) > filter.geom_max_error) continue;
+    if (params.geometric && GeometricError(params, src, u, v, ray, depth) > filter.max_reprojection_error) continue;
     ++consistent;
   }
   return consistent >= MinI(filter.min_num_consistent, params.num_sources);

@@ -13,8 +13,9 @@ void PatchMatchSchedule::Check() const {
     if (it.tau_index < 0) fail("tau index must be >= 0");
   }
   if (geom_lambda < 0.f) fail("geometric weight must be >= 0");
-  if (geometric && geom_max_error <= 0.f) fail("geometric clamp must be > 0");
+  if (geometric && geom_error_clamp <= 0.f) fail("geometric clamp must be > 0");
   if (settled_skips < 0 || settled_skips > 255) fail("settled pixel skips must be in [0, 255]");
+  if (costed_views < 0 || costed_views > kMaxSourceViews) fail("costed views must be in [0, 32]");
   if (refinement_rho <= 0.f || refinement_rho >= 1.f) fail("refinement rho must be in (0, 1)");
   if (tau0 <= 0.f || tau_alpha <= 0.f) fail("tau0 and alpha must be > 0");
   if (use_prior && (prior_beta <= 0.f || prior_sigma_normal_deg <= 0.f)) fail("prior sigmas must be > 0");
@@ -59,10 +60,11 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
   p.depth_max = problem.depth_max;
   p.geometric = schedule.geometric;
   p.geom_lambda = schedule.geometric ? schedule.geom_lambda : 0.f;
-  p.geom_max_error = schedule.geom_max_error;
+  p.geom_max_error = schedule.geom_error_clamp;
   p.noise_variance = schedule.noise_floor ? problem.ref_noise_variance : 0.f;
   p.use_prior = schedule.use_prior;
   p.settled_skips = schedule.settled_skips;
+  p.costed_views = schedule.costed_views;
   p.prior.plane = problem.prior_plane;
   p.prior.label = problem.prior_label;
   p.prior.gamma = schedule.prior_gamma;
@@ -96,6 +98,7 @@ void SetCheckerboardPass(const PatchMatchSchedule& schedule, int iteration, int 
   params->new_window_scale =
       iteration > 0 && schedule.iterations[iteration - 1].window_scale != spec.window_scale;
   params->color = color;
+  params->iteration = static_cast<uint32_t>(iteration);
   params->rng_iteration = PassStream(schedule, static_cast<uint32_t>(1 + 2 * iteration + color));
 }
 

@@ -65,7 +65,7 @@ struct PatchMatchSchedule {
   // with their defaults); they have none here, and Check() refuses the zeros of those that
   // must be set.
   float geom_lambda = 0.f;     // --MPMVS.geom_weight
-  float geom_max_error = 0.f;  // --MPMVS.geom_max_error (px)
+  float geom_error_clamp = 0.f;  // --MPMVS.geom_max_error (px)
   // Floor the photometric cost at the reference's noise level (PassParams::noise_variance).
   bool noise_floor = false;    // --MPMVS.noise_floor
   float prior_beta = 0.f;      // --MPMVS.prior_beta
@@ -73,6 +73,8 @@ struct PatchMatchSchedule {
   // Updates a pixel skips after an update that left its plane settled (PassParams::
   // settled_skips, kernels/DESIGN.md 27); 0: none (the paper).
   int settled_skips = 0;       // --MPMVS.settled_pixel_skips
+  // Source views the propagated candidates are costed in (PassParams::costed_views); 0: all.
+  int costed_views = 0;        // --MPMVS.costed_views
   uint64_t seed = 0;           // --MPMVS.seed
   int num_threads = -1;        // --PatchMatchStereo.num_threads (CPU backend: -1 = all cores)
   uint32_t stage_id = 0;       // distinguishes the random streams of different stages

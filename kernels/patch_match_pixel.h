@@ -81,6 +81,10 @@ struct PassParams {
   // The pass's iteration is the first at its window scale after another scale (mPM): the
   // stored costs are the other window's, so every pixel is updated and no skip carries over.
   bool new_window_scale = false;
+  // The propagated candidates are costed in at most this many source views (CostedViews);
+  // 0: in every source view (the paper).
+  int costed_views = 0;
+  uint32_t iteration = 0;  // the pass's iteration in its stage (turns the explored view)
 };
 
 // ---------------------------------------------------------------------------------------
@@ -464,6 +468,7 @@ MPMVS_HD MPMVS_FORCE_INLINE bool SettledPlane(const Plane& before, const Plane& 
 struct Candidates {
   Plane plane[kNumRegions];
   bool valid[kNumRegions];  // found, with a depth in range
+  int pixel[kNumRegions];   // the pixel it comes from (-1: none)
 };
 
 // A pixel's planar prior: active on labelled pixels of prior passes.
@@ -525,6 +530,7 @@ MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
   }
   for (int r = 0; r < kNumRegions; ++r) {
     cand->valid[r] = false;
+    cand->pixel[r] = best_of[r];
     if (best_of[r] >= 0) {
       cand->plane[r] = LoadPlane(state.plane, best_of[r]);
       cand->valid[r] = DepthInRange(params, PlaneDepth(cand->plane[r], ray));
@@ -532,13 +538,54 @@ MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
   }
 }
 
-// 2. Per-view photometric costs of the candidates, photo[r * N + s] (invalid regions:
-// cost 2, left out by the view selection).
+// 2a. The source views the candidates are costed in: all, or with params.costed_views = M
+// below the number of sources, the views most often selected last time by the pixel itself
+// (counted twice) and its four neighbours, up to M - 1 of them, the rest explored in turn
+// (a different view at each pixel and iteration), so that a view not selected nearby can
+// still show that it sees the pixel. The view selection then chooses among these only.
+MPMVS_HD MPMVS_FORCE_INLINE uint32_t CostedViews(const PassParams& params, const uint32_t* masks,
+                                                 int num_masks, uint32_t own_mask, int idx) {
+  // masks: the views last selected by the neighbours and by the candidates' pixels.
+  const int N = params.num_sources;
+  const uint32_t all = N >= 32 ? 0xffffffffu : (1u << N) - 1u;
+  const int M = params.costed_views;
+  if (M <= 0 || N <= M) return all;
+  int votes[kMaxSourceViews];
+  for (int s = 0; s < N; ++s) {
+    int n = (own_mask >> s & 1u) ? 2 : 0;
+    for (int i = 0; i < num_masks; ++i) n += masks[i] >> s & 1u;
+    votes[s] = n;
+  }
+  uint32_t costed = 0;
+  int num_costed = 0;
+  for (int level = 2 + num_masks; level > 0 && num_costed < M - 1; --level) {
+    for (int s = 0; s < N && num_costed < M - 1; ++s) {
+      if (votes[s] == level) {
+        costed |= 1u << s;
+        ++num_costed;
+      }
+    }
+  }
+  // Exploration: the next views not yet costed, from a start that turns with the pixel and
+  // the iteration.
+  const int start = static_cast<int>((static_cast<uint32_t>(idx) * 2654435761u + params.iteration * 40503u) % N);
+  for (int k = 0; k < N && num_costed < M; ++k) {
+    const int s = (start + k) % N;
+    if (!(costed >> s & 1u)) {
+      costed |= 1u << s;
+      ++num_costed;
+    }
+  }
+  return costed;
+}
+
+// 2b. Per-view photometric costs of the candidates, photo[r * N + s] (invalid regions and
+// views not costed: cost 2, left out by the view selection).
 template <class Ncc>
 MPMVS_HD MPMVS_FORCE_INLINE void CandidatePhotoCosts(const PassParams& params,
                                                      const RefPatch& patch,
-                                                     const Candidates& cand, int u, int v,
-                                                     float* photo, uint32_t* num_ncc) {
+                                                     const Candidates& cand, uint32_t costed,
+                                                     int u, int v, float* photo, uint32_t* num_ncc) {
   const int N = params.num_sources;
   for (int r = 0; r < kNumRegions; ++r) {
     if (!cand.valid[r]) {
@@ -551,27 +598,37 @@ MPMVS_HD MPMVS_FORCE_INLINE void CandidatePhotoCosts(const PassParams& params,
       continue;
     }
     const Vec3 m = HomographyPlaneVector(params.ref_camera, cand.plane[r]);
-    for (int s = 0; s < N; ++s) photo[r * N + s] = ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc);
+    for (int s = 0; s < N; ++s) {
+      photo[r * N + s] = (costed >> s & 1u) ? ViewPhotoCost<Ncc>(params, patch, s, m, u, v, num_ncc) : kInvalidCost;
+    }
   }
 }
 
-// 3. View selection with the prior of the four neighbours' views; returns the selected
-// views, their weights in `weights`.
-MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params,
-                                                      const PixelState& state, int u, int v,
-                                                      const float* photo, const bool* valid,
-                                                      RandomStream* rng, float* weights) {
+// The selected-view masks of the (up to 4) direct neighbours; returns how many.
+MPMVS_HD MPMVS_FORCE_INLINE int NeighbourMasks(const PassParams& params, const PixelState& state, int u, int v,
+                                               uint32_t* masks) {
   const int W = params.ref_camera.width, H = params.ref_camera.height;
   const int idx = v * W + u;
-  uint32_t neighbour_masks[4];
-  int num_neighbours = 0;
-  if (v > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - W];
-  if (v + 1 < H) neighbour_masks[num_neighbours++] = state.view_mask[idx + W];
-  if (u > 0) neighbour_masks[num_neighbours++] = state.view_mask[idx - 1];
-  if (u + 1 < W) neighbour_masks[num_neighbours++] = state.view_mask[idx + 1];
+  int n = 0;
+  if (v > 0) masks[n++] = state.view_mask[idx - W];
+  if (v + 1 < H) masks[n++] = state.view_mask[idx + W];
+  if (u > 0) masks[n++] = state.view_mask[idx - 1];
+  if (u + 1 < W) masks[n++] = state.view_mask[idx + 1];
+  return n;
+}
+
+// 3. View selection among the costed views, with the prior of the four neighbours' views;
+// returns the selected views, their weights in `weights`.
+MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params, const uint32_t* neighbour_masks,
+                                                      int num_neighbours, uint32_t costed,
+                                                      const float* photo, const bool* valid,
+                                                      RandomStream* rng, float* weights) {
   float prior[kMaxSourceViews];
   NeighbourViewPrior(neighbour_masks, num_neighbours, params.num_sources, params.view_selection,
                      prior);
+  for (int s = 0; s < params.num_sources; ++s) {
+    if (!(costed >> s & 1u)) prior[s] = 0.f;
+  }
   return SelectViews(photo, valid, params.num_sources, prior, params.view_selection, rng, weights);
 }
 
@@ -736,10 +793,23 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
 
   Candidates cand;
   GatherCandidates(params, state, u, v, ray, &cand);
+  uint32_t neighbour_masks[4];
+  const int num_neighbours = NeighbourMasks(params, state, u, v, neighbour_masks);
+  uint32_t costed = ~0u;
+  if (params.costed_views > 0 && params.num_sources > params.costed_views) {
+    uint32_t masks[4 + kNumRegions];
+    int num_masks = 0;
+    for (int i = 0; i < num_neighbours; ++i) masks[num_masks++] = neighbour_masks[i];
+    for (int r = 0; r < kNumRegions; ++r) {
+      if (cand.valid[r]) masks[num_masks++] = state.view_mask[cand.pixel[r]];
+    }
+    costed = CostedViews(params, masks, num_masks, state.view_mask[idx], idx);
+  }
   float photo[kNumRegions * kMaxSourceViews];
-  CandidatePhotoCosts<Ncc>(params, patch, cand, u, v, photo, num_ncc);
+  CandidatePhotoCosts<Ncc>(params, patch, cand, costed, u, v, photo, num_ncc);
   float weights[kMaxSourceViews];
-  const uint32_t selected = SelectPixelViews(params, state, u, v, photo, cand.valid, &rng, weights);
+  const uint32_t selected =
+      SelectPixelViews(params, neighbour_masks, num_neighbours, costed, photo, cand.valid, &rng, weights);
 
   PixelPrior prior{PixelPriorActive(params, patch, idx), Plane{}, 0.f};
   if (prior.active) {

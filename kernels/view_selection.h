@@ -68,9 +68,11 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
       prob[s] = best < kInvalidCost ? 1.f : 0.f;
       total += prob[s];
     }
-    if (!(total > 0.f)) {
-      for (int s = 0; s < num_views; ++s) prob[s] = 1.f;
-      total = static_cast<float>(num_views);
+    if (!(total > 0.f)) {  // uniform over the views with a prior (those costed)
+      for (int s = 0; s < num_views; ++s) {
+        prob[s] = prior[s] > 0.f ? 1.f : 0.f;
+        total += prob[s];
+      }
     }
   }
   // A single view with any probability takes every draw (each draw r lies in [0, total),

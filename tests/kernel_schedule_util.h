@@ -13,7 +13,7 @@ inline kernels::PatchMatchSchedule ScheduleWithOptionDefaults() {
   const MpMvsOptions options;
   kernels::PatchMatchSchedule schedule;
   schedule.geom_lambda = static_cast<float>(options.geom_weight);
-  schedule.geom_max_error = static_cast<float>(options.geom_max_error);
+  schedule.geom_error_clamp = static_cast<float>(options.geom_max_error);
   schedule.refinement_rho = static_cast<float>(options.refinement_rho);
   schedule.prior_beta = kernels::kAcmpBeta;
   return schedule;

@@ -27,10 +27,10 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   // The preset's values are set after parsing, for the options not given explicitly.
   auto preset = std::make_shared<std::string>("default");
   parser->Add(q + "preset", preset.get(),
-              std::string("defaults of all --MPMVS options: default, or paper (MP-MVS as published; "
-                          "docs/options.md); options given explicitly override it [") +
+              std::string("defaults of all --MPMVS options: default, fast (about a third of the work) or "
+                          "paper (MP-MVS as published; docs/options.md); options given explicitly override it [") +
                   PresetNames() + "]");
-  m->Visit([&](const OptionSpec& spec, auto& field, const auto&, const auto&) {
+  m->Visit([&](const OptionSpec& spec, auto& field, const auto&) {
     parser->Add(q + spec.name, &field, HelpText(spec));
   });
   parser->OnParsed([preset, m, q](const OptionParser& parsed) {

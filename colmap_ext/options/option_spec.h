@@ -51,7 +51,7 @@ enum class OptionEffect {
 };
 
 struct OptionSpec {
-  const char* name;  // without its section: "max_window_scale"
+  const char* name;  // without its section ("MPMVS.", "PatchMatchStereo.")
   OptionRange range;
   OptionEffect effect;
   const char* help;

@@ -14,114 +14,118 @@ namespace mpmvs {
 
 // COLMAP's PatchMatchStereo options that keep their COLMAP meaning.
 // X(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)
-#define MPMVS_COLMAP_OPTIONS(X)                                                                               \
-  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kResult,                                        \
-    "down-scale images so that max(width, height) <= this; -1 = full size")                                   \
-  X(std::string, gpu_index, "-1", OptionRange::Any(), kRun,                                                   \
-    "-1 = the first usable GPU, else the CPU backend; a GPU index (comma-separated list of integers >= -1)") \
-  X(double, depth_min, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                        \
-  X(double, depth_max, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                        \
-  X(bool, geom_consistency, true, OptionRange::Any(), kResult,                                                \
-    "run the geometric stages and write .geometric.bin")                                                      \
-  X(bool, filter, false, OptionRange::Any(), kResult,                                                         \
-    "COLMAP-style filter of the written maps (off by default: docs/algorithm.md)")                            \
-  X(double, filter_min_ncc, 0.1, OptionRange::Closed(-1, 1), kResult, "filter: minimum NCC")                  \
-  X(double, filter_min_triangulation_angle, 3.0, OptionRange::Closed(0, 180), kResult,                        \
-    "filter: minimum triangulation angle (degrees)")                                                          \
-  X(int, filter_min_num_consistent, 2, OptionRange::AtLeast(0), kResult,                                      \
-    "filter: minimum number of consistent source views")                                                      \
-  X(double, filter_geom_consistency_max_cost, 1.0, OptionRange::AtLeast(0), kResult,                          \
-    "filter: maximum forward-backward reprojection error (px)")                                               \
-  X(double, cache_size, 32, OptionRange::Above(0), kRun, "GB of images and maps kept in memory")              \
-  X(bool, write_consistency_graph, false, OptionRange::Any(), kRun,                                           \
-    "write stereo/consistency_graphs/ beside the maps")                                                       \
-  X(bool, allow_missing_files, false, OptionRange::Any(), kResult,                                            \
-    "drop sources whose image or maps are missing instead of failing")                                        \
-  X(int, num_threads, -1, OptionRange::MinusOneOrAbove(0), kRun, "CPU threads; -1 = all cores")               \
-  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kResult,                           \
+#define MPMVS_COLMAP_OPTIONS(X)                                                                                        \
+  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kResult,                                                 \
+    "down-scale images so that max(width, height) <= this; -1 = full size")                                            \
+  X(std::string, gpu_index, "-1", OptionRange::Any(), kRun,                                                            \
+    "-1 = the first usable GPU, else the CPU backend; a GPU index (comma-separated list of integers >= -1)")           \
+  X(double, depth_min, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
+  X(double, depth_max, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
+  X(bool, geom_consistency, true, OptionRange::Any(), kResult,                                                         \
+    "run the geometric stages and write .geometric.bin")                                                               \
+  X(bool, filter, false, OptionRange::Any(), kResult,                                                                  \
+    "COLMAP-style filter of the written maps (off by default: docs/algorithm.md)")                                     \
+  X(double, filter_min_ncc, 0.1, OptionRange::Closed(-1, 1), kResult, "filter: minimum NCC")                           \
+  X(double, filter_min_triangulation_angle, 3.0, OptionRange::Closed(0, 180), kResult,                                 \
+    "filter: minimum triangulation angle (degrees)")                                                                   \
+  X(int, filter_min_num_consistent, 2, OptionRange::AtLeast(0), kResult,                                               \
+    "filter: minimum number of consistent source views")                                                               \
+  X(double, filter_geom_consistency_max_cost, 1.0, OptionRange::AtLeast(0), kResult,                                   \
+    "filter: maximum forward-backward reprojection error (px)")                                                        \
+  X(double, cache_size, 32, OptionRange::Above(0), kRun, "GB of images and maps kept in memory")                       \
+  X(bool, write_consistency_graph, false, OptionRange::Any(), kRun,                                                    \
+    "write stereo/consistency_graphs/ beside the maps")                                                                \
+  X(bool, allow_missing_files, false, OptionRange::Any(), kResult,                                                     \
+    "drop sources whose image or maps are missing instead of failing")                                                 \
+  X(int, num_threads, -1, OptionRange::MinusOneOrAbove(0), kRun, "CPU threads; -1 = all cores")                        \
+  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kResult,                                    \
     "degrees; the __auto__ source selection of patch-match.cfg")
 
 // COLMAP's PatchMatchStereo options that describe COLMAP's own algorithm: accepted and
 // ignored with a warning naming what to use instead. X(NAME, HINT)
-#define MPMVS_COLMAP_IGNORED_OPTIONS(X)                                                       \
-  X(window_radius, "use --MPMVS.max_window_scale (windows 11/21/41 px)")                      \
-  X(window_step, "use --MPMVS.max_window_scale (6x6 samples per window)")                     \
-  X(sigma_spatial, "the bilateral weights are MP-MVS's (sigma_s = 5)")                        \
-  X(sigma_color, "the bilateral weights are MP-MVS's (sigma_c = 2.5)")                        \
-  X(num_samples, "view selection draws 15 samples (ACMH)")                                    \
-  X(ncc_sigma, "view selection is ACMH's")                                                    \
-  X(incident_angle_sigma, "view selection is ACMH's")                                         \
-  X(num_iterations, "use --MPMVS.iterations_per_scale / --MPMVS.geom_iterations")             \
-  X(geom_consistency_regularizer, "use --MPMVS.geom_weight")                                  \
+#define MPMVS_COLMAP_IGNORED_OPTIONS(X)                                                                                \
+  X(window_radius, "use --MPMVS.max_window_scale (windows 11/21/41 px)")                                               \
+  X(window_step, "use --MPMVS.max_window_scale (6x6 samples per window)")                                              \
+  X(sigma_spatial, "the bilateral weights are MP-MVS's (sigma_s = 5)")                                                 \
+  X(sigma_color, "the bilateral weights are MP-MVS's (sigma_c = 2.5)")                                                 \
+  X(num_samples, "view selection draws 15 samples (ACMH)")                                                             \
+  X(ncc_sigma, "view selection is ACMH's")                                                                             \
+  X(incident_angle_sigma, "view selection is ACMH's")                                                                  \
+  X(num_iterations, "use --MPMVS.iterations_per_scale / --MPMVS.geom_iterations")                                      \
+  X(geom_consistency_regularizer, "use --MPMVS.geom_weight")                                                           \
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
-// The method's options. PAPER: the value of `--MPMVS.preset paper` (MP-MVS as published).
+// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (about a third
+// of the default's work: docs/results.md) and `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
-// X(TYPE, NAME, DEFAULT, PAPER, RANGE, EFFECT, HELP)
-#define MPMVS_METHOD_OPTIONS(X)                                                                                     \
-  X(int, max_window_scale, 2, 2, OptionRange::Closed(0, 4), kResult,                                                \
-    "mPM: windows of 2^S*10+1 px for S = max..0 (41, 21, 11 px), 6x6 samples each; 0 = single 11 px window")        \
-  X(int, iterations_per_scale, 3, 3, OptionRange::AtLeast(1), kResult,                                              \
-    "photometric iterations per window scale (tau restarts at each scale)")                                         \
-  X(bool, distant_sampling, true, true, OptionRange::Any(), kResult,                                                \
-    "1 = MP-MVS distant checkerboard sampling, 0 = ACMH's pattern")                                                 \
-  X(std::string, planar_prior, "geometric", "geometric", OptionRange::OneOf("none|photometric|geometric"), kResult, \
-    "geometric (MP-MVS), photometric (ACMP) or none")                                                               \
-  X(int, geom_iterations, 2, 2, OptionRange::AtLeast(1), kResult, "iterations of each geometric pass")              \
-  X(int, prior_iterations, 3, 3, OptionRange::AtLeast(1), kResult, "iterations of each prior-assisted run")         \
-  X(int, prior_rounds, 2, 1, OptionRange::Closed(1, 4), kResult,                                                    \
-    "geometric prior: rounds of (planar prior from the last geometric pass, geometric pass); 1 = the paper")        \
-  X(double, geom_weight, 0.2, 0.2, OptionRange::AtLeast(0), kResult, "lambda of the geometric term")                \
-  X(double, geom_max_error, 2.0, 2.0, OptionRange::Above(0), kResult, "clamp of the reprojection error (px)")       \
-  X(double, prior_max_photo_cost, 0.2, 0.2, OptionRange::Any(), kResult,                                            \
-    "geometric prior vertices: photometric cost m_p below this")                                                    \
-  X(double, prior_max_geom_error, 1.0, 1.0, OptionRange::Any(), kResult,                                            \
-    "geometric prior vertices: reprojection error m_g below this (px)")                                             \
-  X(double, prior_max_cost_acmp, 0.1, 0.1, OptionRange::Any(), kResult,                                             \
-    "photometric (ACMP) prior vertices: cost below this")                                                           \
-  X(int, prior_cell_size, 5, 5, OptionRange::AtLeast(1), kResult, "prior vertices: grid cell size (px)")            \
-  X(int, prior_points_per_cell, 3, 3, OptionRange::AtLeast(1), kResult,                                             \
-    "geometric prior vertices per cell (the photometric prior takes 1, as ACMP)")                                   \
-  X(bool, prior_plane_vote, true, false, OptionRange::Any(), kResult,                                               \
-    "each prior triangle takes the plane that the vertices around it vote for, among its neighbours' and its "      \
-    "vertices' planes; 0 = its own plane through its three vertices (paper)")                                       \
-  X(bool, prior_source_vertices, true, false, OptionRange::Any(), kResult,                                          \
-    "geometric prior: source views' vertices just outside the reference image join its triangulation; 0 = the "     \
-    "reference's own vertices only (paper)")                                                                        \
-  X(double, prior_vertex_bend, 0.01, 0, OptionRange::Closed(0, 1), kResult,                                         \
-    "first geometric prior: a pixel where the inverse depth bends by more than this (relative second difference "   \
-    "over +-3 px) is no vertex; 0 = off (paper)")                                                                   \
-  X(double, prior_beta, 8, 0.18, OptionRange::Above(0), kResult,                                                    \
-    "beta of the prior run's score exp(-C^2/beta)*(gamma + agreement); with noise_floor on it falls with the "      \
-    "window's texture towards 0.18 and the prior acts only on plain windows; 0.18 = ACMP")                          \
-  X(bool, noise_floor, true, false, OptionRange::Any(), kResult,                                                    \
-    "floor the photometric cost at the reference's noise level in the geometric and prior stages; 0 = paper")       \
-  X(double, refinement_rho, 0.02, 0.02, OptionRange::Open(0, 1), kResult,                                           \
-    "relative depth perturbation of the refinement's random planes")                                                \
-  X(int, depth_check_views, 1, 0, OptionRange::Closed(0, 32), kResult,                                              \
-    "source views whose final depth maps must confirm a written depth within 1 % (and depth segments under 100 "    \
-    "px go); 0 = no depth_check stage (paper)")                                                                     \
-  X(double, chroma_weight, 8, 0, OptionRange::Closed(0, 1000), kResult,                                             \
-    "bilateral NCC weights: grey difference + this x the reference's smoothed colour difference; 0 = grey only "    \
-    "(paper)")                                                                                                      \
-  X(int, max_source_images, 20, 20, OptionRange::Closed(1, 32), kResult, "source images used per reference")        \
-  X(int, seed, 1, 1, OptionRange::AtLeast(0), kResult, "random streams (results do not depend on thread count)")   \
-  X(int, settled_pixel_skips, 0, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
-    "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many of its next "     \
-    "updates at the same window scale; 0 = every pixel in every pass (paper)")                                      \
-  X(bool, overwrite, false, false, OptionRange::Any(), kRun, "recompute outputs that already exist")                \
-  X(bool, write_pictures, true, true, OptionRange::Any(), kRun, "depth/normal PNGs in stereo/mpmvs/pictures")       \
-  X(std::string, shard, "", "", OptionRange::Any(), kRun,                                                           \
-    "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process")       \
-  X(std::string, image_list_path, "", "", OptionRange::Any(), kRun,                                                 \
-    "file naming the reference images to run, one per line")                                                        \
-  X(std::string, stage, "all", "all",                                                                               \
-    OptionRange::NonEmpty("all or a stage name (photometric, geometric1, prior, geometric2, ..., depth_check)"),    \
-    kRun,                                                                                                           \
-    "all, or one stage whose inputs exist: photometric, geometric1, prior, geometric2, prior2, geometric3 "         \
-    "(prior3, geometric4, ... with more prior_rounds), depth_check")                                                \
-  X(int, claim_lease, 600, 600, OptionRange::AtLeast(1), kRun,                                                      \
+// X(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)
+#define MPMVS_METHOD_OPTIONS(X)                                                                                        \
+  X(int, max_window_scale, 2, 1, 2, OptionRange::Closed(0, 4), kResult,                                                \
+    "mPM: windows of 2^S*10+1 px for S = max..0 (41, 21, 11 px), 6x6 samples each; 0 = single 11 px window")           \
+  X(int, iterations_per_scale, 3, 2, 3, OptionRange::AtLeast(1), kResult,                                              \
+    "photometric iterations per window scale (tau restarts at each scale)")                                            \
+  X(bool, distant_sampling, true, true, true, OptionRange::Any(), kResult,                                             \
+    "1 = MP-MVS distant checkerboard sampling, 0 = ACMH's pattern")                                                    \
+  X(std::string, planar_prior, "geometric", "geometric", "geometric", OptionRange::OneOf("none|photometric|geometric"), kResult, \
+    "geometric (MP-MVS), photometric (ACMP) or none")                                                                  \
+  X(int, geom_iterations, 2, 1, 2, OptionRange::AtLeast(1), kResult, "iterations of each geometric pass")              \
+  X(int, prior_iterations, 3, 2, 3, OptionRange::AtLeast(1), kResult, "iterations of each prior-assisted run")         \
+  X(int, prior_rounds, 2, 1, 1, OptionRange::Closed(1, 4), kResult,                                                    \
+    "geometric prior: rounds of (planar prior from the last geometric pass, geometric pass); 1 = the paper")           \
+  X(double, geom_weight, 0.2, 0.2, 0.2, OptionRange::AtLeast(0), kResult, "lambda of the geometric term")              \
+  X(double, geom_max_error, 2.0, 2.0, 2.0, OptionRange::Above(0), kResult, "clamp of the reprojection error (px)")     \
+  X(double, prior_max_photo_cost, 0.2, 0.2, 0.2, OptionRange::Any(), kResult,                                          \
+    "geometric prior vertices: photometric cost m_p below this")                                                       \
+  X(double, prior_max_geom_error, 1.0, 1.0, 1.0, OptionRange::Any(), kResult,                                          \
+    "geometric prior vertices: reprojection error m_g below this (px)")                                                \
+  X(double, prior_max_cost_acmp, 0.1, 0.1, 0.1, OptionRange::Any(), kResult,                                           \
+    "photometric (ACMP) prior vertices: cost below this")                                                              \
+  X(int, prior_cell_size, 5, 5, 5, OptionRange::AtLeast(1), kResult, "prior vertices: grid cell size (px)")            \
+  X(int, prior_points_per_cell, 3, 3, 3, OptionRange::AtLeast(1), kResult,                                             \
+    "geometric prior vertices per cell (the photometric prior takes 1, as ACMP)")                                      \
+  X(bool, prior_plane_vote, true, true, false, OptionRange::Any(), kResult,                                            \
+    "each prior triangle takes the plane that the vertices around it vote for, among its neighbours' and its "         \
+    "vertices' planes; 0 = its own plane through its three vertices (paper)")                                          \
+  X(bool, prior_source_vertices, true, true, false, OptionRange::Any(), kResult,                                       \
+    "geometric prior: source views' vertices just outside the reference image join its triangulation; 0 = the "        \
+    "reference's own vertices only (paper)")                                                                           \
+  X(double, prior_vertex_bend, 0.01, 0.01, 0, OptionRange::Closed(0, 1), kResult,                                      \
+    "first geometric prior: a pixel where the inverse depth bends by more than this (relative second difference "      \
+    "over +-3 px) is no vertex; 0 = off (paper)")                                                                      \
+  X(double, prior_beta, 8, 8, 0.18, OptionRange::Above(0), kResult,                                                    \
+    "beta of the prior run's score exp(-C^2/beta)*(gamma + agreement); with noise_floor on it falls with the "         \
+    "window's texture towards 0.18 and the prior acts only on plain windows; 0.18 = ACMP")                             \
+  X(bool, noise_floor, true, true, false, OptionRange::Any(), kResult,                                                 \
+    "floor the photometric cost at the reference's noise level in the geometric and prior stages; 0 = paper")          \
+  X(double, refinement_rho, 0.02, 0.02, 0.02, OptionRange::Open(0, 1), kResult,                                        \
+    "relative depth perturbation of the refinement's random planes")                                                   \
+  X(int, depth_check_views, 1, 1, 0, OptionRange::Closed(0, 32), kResult,                                              \
+    "source views whose final depth maps must confirm a written depth within 1 % (and depth segments under 100 "       \
+    "px go); 0 = no depth_check stage (paper)")                                                                        \
+  X(double, chroma_weight, 8, 8, 0, OptionRange::Closed(0, 1000), kResult,                                             \
+    "bilateral NCC weights: grey difference + this x the reference's smoothed colour difference; 0 = grey only "       \
+    "(paper)")                                                                                                         \
+  X(int, max_source_images, 20, 20, 20, OptionRange::Closed(1, 32), kResult, "source images used per reference")       \
+  X(int, seed, 1, 1, 1, OptionRange::AtLeast(0), kResult, "random streams (results do not depend on thread count)")    \
+  X(int, settled_pixel_skips, 0, 2, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
+    "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many of its next "        \
+    "updates at the same window scale; 0 = every pixel in every pass (paper)")                                         \
+  X(int, costed_views, 0, 3, 0, OptionRange::Closed(0, 32), kResultWhenSet,                                            \
+    "propagated candidates are costed in at most this many source views: those the pixel and its neighbours "          \
+    "selected last, one more explored in turn; 0 = every source view (paper)")                                         \
+  X(bool, overwrite, false, false, false, OptionRange::Any(), kRun, "recompute outputs that already exist")            \
+  X(bool, write_pictures, true, true, true, OptionRange::Any(), kRun, "depth/normal PNGs in stereo/mpmvs/pictures")    \
+  X(std::string, shard, "", "", "", OptionRange::Any(), kRun,                                                          \
+    "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process")          \
+  X(std::string, image_list_path, "", "", "", OptionRange::Any(), kRun,                                                \
+    "file naming the reference images to run, one per line")                                                           \
+  X(std::string, stage, "all", "all", "all",                                                                           \
+    OptionRange::NonEmpty("all or a stage name (photometric, geometric1, prior, geometric2, ..., depth_check)"),       \
+    kRun,                                                                                                              \
+    "all, or one stage whose inputs exist: photometric, geometric1, prior, geometric2, prior2, geometric3 "            \
+    "(prior3, geometric4, ... with more prior_rounds), depth_check")                                                   \
+  X(int, claim_lease, 600, 600, 600, OptionRange::AtLeast(1), kRun,                                                    \
     "seconds before a work claim of a silent process on another host is taken over")
 
 struct PatchMatchStereoOptions {
@@ -132,7 +136,7 @@ struct PatchMatchStereoOptions {
   // Every declared option: visit(spec, field) (field: a reference to this struct's value).
   template <typename Visitor>
   void Visit(Visitor&& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) \
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)                                                          \
   visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME);
     MPMVS_COLMAP_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
@@ -147,35 +151,43 @@ struct PatchMatchStereoOptions {
 
 enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
 
+// Presets: named sets of --MPMVS values, in this order (OptionPresets::values).
+constexpr const char* kPresetNames[] = {"default", "fast", "paper"};
+constexpr int kNumPresets = 3;
+template <typename T>
+struct OptionPresets {
+  T values[kNumPresets];
+  const T& at(int preset) const { return values[preset]; }
+  const T& default_value() const { return values[0]; }
+};
+
 struct MpMvsOptions {
-#define MPMVS_FIELD(TYPE, NAME, DEFAULT, PAPER, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
+#define MPMVS_FIELD(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
   MPMVS_METHOD_OPTIONS(MPMVS_FIELD)
 #undef MPMVS_FIELD
 
-  // Every declared option: visit(spec, field, default_value, paper_value).
+  // Every declared option: visit(spec, field, presets), presets.at(k) its value in preset k.
   template <typename Visitor>
   void Visit(Visitor&& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, PAPER, RANGE, EFFECT, HELP) \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME, TYPE(DEFAULT), TYPE(PAPER));
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)                                             \
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME, OptionPresets<TYPE>{{TYPE(DEFAULT), TYPE(FAST), TYPE(PAPER)}});
     MPMVS_METHOD_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
   }
   template <typename Visitor>
   void Visit(Visitor&& visit) const {
     const_cast<MpMvsOptions*>(this)->Visit(
-        [&](const OptionSpec& spec, const auto& field, const auto& default_value, const auto& paper_value) {
-          visit(spec, field, default_value, paper_value);
-        });
+        [&](const OptionSpec& spec, const auto& field, const auto& presets) { visit(spec, field, presets); });
   }
 
   PlanarPriorMode PriorMode() const;
   bool Check(std::string* error) const;
 };
 
-// Presets: named sets of --MPMVS values ("default", "paper"). A preset sets every option that
-// changes results for which given(name) is false; options given explicitly keep their value,
-// and so do the options of the run (kRun). False for an unknown preset.
-const char* PresetNames();  // "default|paper"
+// A preset (kPresetNames) sets every option that changes results for which given(name) is
+// false; options given explicitly keep their value, and so do the options of the run (kRun).
+// False for an unknown preset.
+const char* PresetNames();  // "default|fast|paper"
 bool ApplyPreset(const std::string& preset, const std::function<bool(const std::string& name)>& given,
                  MpMvsOptions* options);
 

@@ -4,9 +4,9 @@
 
 namespace mpmvs {
 
-DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_max_error, int min_views,
+DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_error_clamp, int min_views,
                                int num_threads, kernels::PatchMatchResult* result) {
-  kernels::InvalidateGeometricallyInconsistent(geom_max_error, result);
+  kernels::InvalidateGeometricallyInconsistent(geom_error_clamp, result);
   DepthCheckCounts counts;
   counts.unconfirmed = kernels::InvalidateUnconfirmedDepthsCpu(problem, min_views, kDepthCheckMaxRelativeError,
                                                                num_threads, result);

@@ -22,7 +22,7 @@ struct DepthCheckCounts {
 // leaves out anyway, so they split no segment), those that fewer than min_views sources'
 // results confirm, and those in small depth segments. problem's sources carry their results
 // of the same pass as *result.
-DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_max_error, int min_views,
+DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_error_clamp, int min_views,
                                int num_threads, kernels::PatchMatchResult* result);
 
 }  // namespace mpmvs

@@ -99,7 +99,7 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
                "--PatchMatchStereo.geom_consistency 0 only the photometric stage runs");
   }
   ReferenceProblems loaded =
-      LoadReferenceProblems(workspace_, run_.config_path, run_.colmap_options, plan_.max_source_images);
+      LoadReferenceProblems(workspace_, run_.config_path, run_.colmap_options, plan_.sources_per_reference);
   problems_ = std::move(loaded.runnable);
   summary->num_skipped_no_sources = loaded.num_skipped_no_sources;
   summary->num_skipped_no_depth_range = loaded.num_skipped_no_depth_range;
@@ -218,8 +218,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
     case StageReference::Action::kCompute:
       if (stage.kind == StageKind::kDepthCheck) {
         result = ref->input;
-        const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_max_error,
-                                                       stage.depth_check_views, plan_.num_threads, &result);
+        const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_error_clamp,
+                                                       stage.confirming_views, plan_.num_threads, &result);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
         LogInfo(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
                 std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
@@ -257,7 +257,7 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
     if (plan_.final_type == "photometric") written_.insert(p.ref);
   }
   if (stage_index == plan_.pipeline.geometric_output) {
-    kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_max_error, result);
+    kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_error_clamp, result);
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
     written_.insert(p.ref);

@@ -15,7 +15,7 @@ std::vector<StageStatus> ComputeWorkStatus(const MpPatchMatchRun& run, int shard
   const RunPlan plan = MakeRunPlan(run.colmap_options, run.options, false);
   const DenseWorkspace workspace = io.Load(run.workspace_path, run.colmap_options.max_image_size);
   const std::vector<ReferenceProblem> problems =
-      LoadReferenceProblems(workspace, run.config_path, run.colmap_options, plan.max_source_images).runnable;
+      LoadReferenceProblems(workspace, run.config_path, run.colmap_options, plan.sources_per_reference).runnable;
   StageStore store(workspace, &io, plan, problems, StateOptionsText(run.options));
   const StageInputs inputs(plan, problems);
   std::vector<char> done;

@@ -17,7 +17,7 @@ constexpr double kSparseRangeWidening[2] = {0.25 / 0.75, 2.0 / 1.25};
 
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
                                         const PatchMatchStereoOptions& colmap_options,
-                                        int max_source_images) {
+                                        int max_sources) {
   const std::string cfg =
       config_path.empty() ? JoinPaths(workspace.path, "stereo/patch-match.cfg") : config_path;
   if (!FileExists(cfg)) ThrowFileError(cfg, "patch-match configuration not found");
@@ -56,7 +56,7 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
         p.src.push_back(src);
       }
     }
-    if (static_cast<int>(p.src.size()) > max_source_images) p.src.resize(max_source_images);
+    if (static_cast<int>(p.src.size()) > max_sources) p.src.resize(max_sources);
     if (colmap_options.depth_min > 0) {
       p.depth_min = static_cast<float>(colmap_options.depth_min);
       p.depth_max = static_cast<float>(colmap_options.depth_max);

@@ -23,12 +23,12 @@ struct ReferenceProblems {
 };
 
 // Reads config_path ("" = WS/stereo/patch-match.cfg), caps the sources at
-// max_source_images, takes the depth range from the options or the sparse points, and
+// max_sources, takes the depth range from the options or the sparse points, and
 // warns about each reference that cannot run. A reference listed again is ignored (with a
 // warning). A missing image file is an Error naming it, or, with allow_missing_files, a
 // reference skipped or a source dropped with a warning (as COLMAP).
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
                                         const PatchMatchStereoOptions& colmap_options,
-                                        int max_source_images);
+                                        int max_sources);
 
 }  // namespace mpmvs

@@ -26,7 +26,7 @@ kernels::FilterParams MakeFilterParams(const PatchMatchStereoOptions& c) {
   filter.min_ncc = static_cast<float>(c.filter_min_ncc);
   filter.min_triangulation_angle_deg = static_cast<float>(c.filter_min_triangulation_angle);
   filter.min_num_consistent = c.filter_min_num_consistent;
-  filter.geom_max_error = static_cast<float>(c.filter_geom_consistency_max_cost);
+  filter.max_reprojection_error = static_cast<float>(c.filter_geom_consistency_max_cost);
   return filter;
 }
 
@@ -77,8 +77,8 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.backend.num_threads = plan.num_threads;
   plan.backend.cache_bytes = plan.cache_bytes;
   plan.backend.cpu_look_ahead = cpu_look_ahead;
-  plan.chroma_weight = static_cast<float>(options.chroma_weight);
-  plan.max_source_images = options.max_source_images;
+  plan.chroma_guide_weight = static_cast<float>(options.chroma_weight);
+  plan.sources_per_reference = options.max_source_images;
   plan.overwrite = options.overwrite;
   plan.write_pictures = options.write_pictures;
   plan.write_consistency_graph = colmap_options.write_consistency_graph;

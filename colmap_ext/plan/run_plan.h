@@ -24,8 +24,8 @@ struct RunPlan {
   BackendOptions backend;
   size_t cache_bytes = 0;  // --PatchMatchStereo.cache_size
   int num_threads = -1;
-  float chroma_weight = 0;
-  int max_source_images = 0;
+  float chroma_guide_weight = 0;  // the colour guide of the NCC weights (0: none)
+  int sources_per_reference = 0;
   bool overwrite = false;
   bool write_pictures = false;
   bool write_consistency_graph = false;

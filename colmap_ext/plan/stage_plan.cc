@@ -24,9 +24,10 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   kernels::PatchMatchSchedule base;
   base.pattern = options.distant_sampling ? kernels::PatternKind::kDistant : kernels::PatternKind::kAcmh;
   base.geom_lambda = static_cast<float>(options.geom_weight);
-  base.geom_max_error = static_cast<float>(options.geom_max_error);
+  base.geom_error_clamp = static_cast<float>(options.geom_max_error);
   base.refinement_rho = static_cast<float>(options.refinement_rho);
   base.settled_skips = options.settled_pixel_skips;
+  base.costed_views = options.costed_views;
   base.seed = static_cast<uint64_t>(options.seed);
   base.num_threads = colmap_options.num_threads;
   base.prior_beta = static_cast<float>(options.prior_beta);
@@ -95,7 +96,7 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
       check.name = "depth_check";
       check.kind = StageKind::kDepthCheck;
       check.input = static_cast<int>(plan.stages.size()) - 1;
-      check.depth_check_views = options.depth_check_views;
+      check.confirming_views = options.depth_check_views;
       check.schedule = base;
       check.schedule.geometric = true;  // reads the sources' results of its input stage
       plan.stages.push_back(check);

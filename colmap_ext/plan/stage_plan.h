@@ -4,7 +4,7 @@
 //                 [-> prior2 (from pass 2) -> geometric pass 3 ...: --MPMVS.prior_rounds]
 //   pp (ACMP):    photometric mPM -> planar prior (photometric selection) -> geometric x2
 //   none:         photometric mPM -> geometric x2
-// then, with geometric stages, a depth check (--MPMVS.depth_check_views) of the last one's
+// then, with geometric stages, a depth check of the last one's
 // results against its sources' results, which writes the geometric maps.
 // Each stage reads the previous stage's results of all images (Jacobi), never results of
 // the same stage, so the output does not depend on the image order.
@@ -23,7 +23,7 @@ struct StagePlan {
   StageKind kind = StageKind::kPhotometric;
   int input = -1;          // stage whose results initialise this one (and feed sources)
   bool prior_geometric_selection = false;  // kPlanarPrior: MP-MVS (true) or ACMP (false)
-  int depth_check_views = 0;               // kDepthCheck: source views that must confirm a depth
+  int confirming_views = 0;                // kDepthCheck: source views that must confirm a depth
   kernels::PatchMatchSchedule schedule;
 };
 

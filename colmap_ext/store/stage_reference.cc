@@ -22,14 +22,14 @@ void ExcludeBentDepths(int W, int H, const std::vector<float>& depth, float max_
 // The reference's and its sources' images and, in geometric stages, the sources' depth
 // maps of the input stage (a source without them is left out, with a warning).
 void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage, const DenseWorkspace& workspace,
-                         const KernelFrame& frame, StageStore* store, float chroma_weight, StageReference* ref) {
+                         const KernelFrame& frame, StageStore* store, float guide_weight, StageReference* ref) {
   const ReferenceProblem& p = *ref->problem;
   kernels::PatchMatchProblem& problem = ref->pm;
   auto ref_image = store->Image(p.ref);
   ref->images.push_back(ref_image);
   problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
   if (stage.schedule.noise_floor) problem.ref_noise_variance = EstimateNoiseVariance(*ref_image);
-  if (chroma_weight > 0) {
+  if (guide_weight > 0) {
     ref->chroma = store->ChromaGuide(p.ref);
     if (!ref->chroma->empty()) problem.ref_image.chroma = ref->chroma->data();
   }
@@ -159,7 +159,7 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   // Images and source depth maps: needed to compute the stage, and by the output filter.
   const std::string input_stage = stage.input >= 0 ? plan.pipeline.stages[stage.input].name : "";
   if (!have_state || ref->filter_here) {
-    AddImagesAndSources(stage, input_stage, workspace, frame, store, plan.chroma_weight, ref.get());
+    AddImagesAndSources(stage, input_stage, workspace, frame, store, plan.chroma_guide_weight, ref.get());
   }
   if (have_state) {
     ref->action = StageReference::Action::kResume;

@@ -284,7 +284,7 @@ std::vector<float> StageStore::ReadChromaGuide(int view) const {
                 std::to_string(rgb.height) + " but the view is " + std::to_string(v.width) + "x" +
                 std::to_string(v.height));
   }
-  std::vector<float> guide = MakeChromaGuide(rgb, plan_.chroma_weight);
+  std::vector<float> guide = MakeChromaGuide(rgb, plan_.chroma_guide_weight);
   if (std::none_of(guide.begin(), guide.end(), [](float c) { return c != 0.f; })) guide.clear();
   return guide;
 }

@@ -306,9 +306,12 @@ constexpr double kMinAgreement = 0.99;
 TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
   const PlaneScene scene = MakeTiltedPlaneScene(128, 96);
   const PatchMatchProblem problem = MakeSceneProblem(scene);
-  for (int skips : {0, 2}) {
-    SCOPED_TRACE("settled skips " + std::to_string(skips));
-    const PatchMatchSchedule schedule = MakeSchedule(skips);
+  // {settled skips, costed views}: the default, the skips, and candidates costed in one view
+  // of the two (the other explored in turn).
+  for (const auto& [skips, costed_views] : {std::pair{0, 0}, std::pair{2, 0}, std::pair{0, 1}}) {
+    SCOPED_TRACE("settled skips " + std::to_string(skips) + ", costed views " + std::to_string(costed_views));
+    PatchMatchSchedule schedule = MakeSchedule(skips);
+    schedule.costed_views = costed_views;
     PatchMatchResult cpu, emulated;
     RunPatchMatchCpu(problem, schedule, &cpu);
     // The comparison means something only if the CPU result is right.
@@ -317,7 +320,10 @@ TEST(CudaBackend, HostEmulatedLaunchesMatchCpuBackend) {
     const double agreement = DepthAgreement(problem, cpu, emulated, kDepthTolerance);
     std::printf("host-emulated CUDA passes vs CPU backend, settled skips %d: %.2f%% of depths within 0.1%%\n",
                 skips, 100 * agreement);
-    EXPECT_GE(agreement, kMinAgreement);
+    // Costed in one view of two, each depth rests on a single NCC of a view that turns
+    // with the pixel and iteration, so rounding (the CPU's vectorised NCC against the
+    // device's scalar one) flips more decisions: 97.4 % agree there, 99.8 % otherwise.
+    EXPECT_GE(agreement, costed_views > 0 ? 0.96 : kMinAgreement);
     ExpectSameStatistics(cpu, emulated, skips > 0);
   }
 }

@@ -128,6 +128,16 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(iterations, 21);
   EXPECT_EQ(StateOptionsText(Parse({"--MPMVS.preset", "default"})), StateOptionsText(MpMvsOptions{}));
 
+  // fast: one window scale fewer, fewer iterations, one prior round, settled pixels skip, the
+  // candidates costed in three views.
+  const MpMvsOptions fast = Parse({"--MPMVS.preset", "fast"}, &colmap);
+  EXPECT_EQ(StageNames(MakePipelinePlan(colmap, fast), &iterations),
+            (std::vector<std::string>{"photometric", "geometric1", "prior", "geometric2", "depth_check"}));
+  EXPECT_EQ(iterations, 8);
+  EXPECT_EQ(fast.costed_views, 3);
+  EXPECT_EQ(fast.settled_pixel_skips, 2);
+  EXPECT_EQ(fast.chroma_weight, MpMvsOptions().chroma_weight);
+
   // Explicit options win over the preset, before or after it on the command line.
   for (const auto& args : {std::vector<std::string>{"--MPMVS.prior_rounds", "2", "--MPMVS.preset", "paper"},
                            std::vector<std::string>{"--MPMVS.preset", "paper", "--MPMVS.prior_rounds", "2"}}) {
@@ -153,7 +163,7 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
 // Every declared numeric range is enforced by Check(), with a message naming the option.
 TEST(Options, CheckRefusesEveryValueOutsideItsDeclaredRange) {
   int checked = 0;
-  MpMvsOptions().Visit([&](const OptionSpec& spec, const auto& value, const auto&, const auto&) {
+  MpMvsOptions().Visit([&](const OptionSpec& spec, const auto& value, const auto&) {
     using T = std::decay_t<decltype(value)>;
     if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
       const OptionRange& r = spec.range;
@@ -167,7 +177,7 @@ TEST(Options, CheckRefusesEveryValueOutsideItsDeclaredRange) {
       if (r.kind == OptionRange::Kind::kOpen || r.kind == OptionRange::Kind::kClosedOpen) outside.push_back(r.hi);
       for (double v : outside) {
         MpMvsOptions o;
-        o.Visit([&](const OptionSpec& s, auto& field, const auto&, const auto&) {
+        o.Visit([&](const OptionSpec& s, auto& field, const auto&) {
           if constexpr (std::is_same_v<std::decay_t<decltype(field)>, T>) {
             if (std::string(s.name) == spec.name) field = static_cast<T>(v);
           }
@@ -201,7 +211,7 @@ TEST(Options, HelpShowsEveryOptionAndEveryStage) {
   OptionParser parser;
   AddPatchMatchOptions(&parser, &c, &m);
   const std::string help = parser.Help();
-  m.Visit([&](const OptionSpec& spec, const auto&, const auto&, const auto&) {
+  m.Visit([&](const OptionSpec& spec, const auto&, const auto&) {
     EXPECT_NE(help.find("--MPMVS." + std::string(spec.name) + " "), std::string::npos) << spec.name;
   });
   std::string words;  // the help with its line wrapping undone
@@ -212,7 +222,7 @@ TEST(Options, HelpShowsEveryOptionAndEveryStage) {
   MpMvsOptions most;
   most.prior_rounds = 4;
   std::string stage_help;
-  m.Visit([&](const OptionSpec& spec, const auto&, const auto&, const auto&) {
+  m.Visit([&](const OptionSpec& spec, const auto&, const auto&) {
     if (std::string(spec.name) == "stage") stage_help = spec.help;
   });
   for (const StagePlan& stage : MakePipelinePlan(PatchMatchStereoOptions(), most).stages) {

@@ -29,7 +29,7 @@ TEST(StagePlan, EachPriorRoundBuildsOnThePreviousGeometricPass) {
                         "prior2<geometric2 geometric3<prior2 depth_check<geometric3");
   EXPECT_EQ(two.stages[two.geometric_output].name, "depth_check");
   EXPECT_EQ(two.stages[two.geometric_output].kind, StageKind::kDepthCheck);
-  EXPECT_EQ(two.stages[two.geometric_output].depth_check_views, 1);
+  EXPECT_EQ(two.stages[two.geometric_output].confirming_views, 1);
   EXPECT_TRUE(two.stages[two.geometric_output].schedule.geometric);  // reads its sources' results
   EXPECT_TRUE(two.stages[two.geometric_output].schedule.iterations.empty());
   EXPECT_EQ(two.stages[two.photometric_output].name, "photometric");
