@@ -67,7 +67,8 @@ namespace mpmvs {
     "photometric iterations per window scale (tau restarts at each scale)")                                            \
   X(bool, distant_sampling, true, true, true, OptionRange::Any(), kResult,                                             \
     "1 = MP-MVS distant checkerboard sampling, 0 = ACMH's pattern")                                                    \
-  X(std::string, planar_prior, "geometric", "geometric", "geometric", OptionRange::OneOf("none|photometric|geometric"), kResult, \
+  X(std::string, planar_prior, "geometric", "geometric", "geometric",                                                  \
+    OptionRange::OneOf("none|photometric|geometric"), kResult,                                                         \
     "geometric (MP-MVS), photometric (ACMP) or none")                                                                  \
   X(int, geom_iterations, 2, 1, 2, OptionRange::AtLeast(1), kResult, "iterations of each geometric pass")              \
   X(int, prior_iterations, 3, 2, 3, OptionRange::AtLeast(1), kResult, "iterations of each prior-assisted run")         \
@@ -143,7 +144,8 @@ struct PatchMatchStereoOptions {
   }
   template <typename Visitor>
   void Visit(Visitor&& visit) const {
-    const_cast<PatchMatchStereoOptions*>(this)->Visit([&](const OptionSpec& spec, const auto& field) { visit(spec, field); });
+    const_cast<PatchMatchStereoOptions*>(this)->Visit(
+        [&](const OptionSpec& spec, const auto& field) { visit(spec, field); });
   }
 
   bool Check(std::string* error) const;
@@ -170,7 +172,8 @@ struct MpMvsOptions {
   template <typename Visitor>
   void Visit(Visitor&& visit) {
 #define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)                                             \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME, OptionPresets<TYPE>{{TYPE(DEFAULT), TYPE(FAST), TYPE(PAPER)}});
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME,       \
+        OptionPresets<TYPE>{{TYPE(DEFAULT), TYPE(FAST), TYPE(PAPER)}});
     MPMVS_METHOD_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
   }
