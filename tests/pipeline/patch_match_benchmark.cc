@@ -174,11 +174,48 @@ void BM_ScalingSweep(benchmark::State& state) {
 }
 BENCHMARK(BM_ScalingSweep)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
+// Cost samples per pixel and iteration against the number of source views (2-20), with the
+// candidates costed in every view (the default) and in 3 (--MPMVS.costed_views 3, the fast
+// preset): reference view 0 of a 21-view plane scene at 576x432, one window scale, 3
+// iterations, 2 threads. Prints a table; the counters are the ratios 20 sources / 4 sources.
+void BM_SamplesAgainstSources(benchmark::State& state) {
+  const std::string dir = PlaneScene("sources_576", 576, 432, 21, 30.0, 1);
+  const DenseWorkspace ws = LoadDenseWorkspace(dir, -1);
+  for (auto _ : state) {
+    std::printf("\n%8s %22s %22s\n", "sources", "samples/px/it (all)", "samples/px/it (3)");
+    double at4[2] = {0, 0}, at20[2] = {0, 0};
+    for (int sources : {2, 4, 8, 16, 20}) {
+      std::vector<GrayImage> images;
+      const kernels::PatchMatchProblem problem = ViewZeroProblem(ws, sources, &images);
+      double per_px_it[2];
+      for (int k = 0; k < 2; ++k) {
+        kernels::PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
+        for (int t = 0; t < 3; ++t) schedule.iterations.push_back({0, t});
+        schedule.num_threads = 2;
+        schedule.costed_views = k == 0 ? 0 : 3;
+        kernels::PatchMatchResult result;
+        kernels::RunPatchMatchCpu(problem, schedule, &result);
+        uint64_t nccs = 0;
+        for (const auto& it : result.iterations) nccs += it.ncc_evaluations;
+        per_px_it[k] = static_cast<double>(nccs) * kernels::kWindowSamples /
+                       (static_cast<double>(result.width) * result.height * result.iterations.size());
+        if (sources == 4) at4[k] = per_px_it[k];
+        if (sources == 20) at20[k] = per_px_it[k];
+      }
+      std::printf("%8d %22.0f %22.0f\n", sources, per_px_it[0], per_px_it[1]);
+    }
+    state.counters["all_views_20_over_4"] = at20[0] / at4[0];
+    state.counters["costed_3_20_over_4"] = at20[1] / at4[1];
+  }
+}
+BENCHMARK(BM_SamplesAgainstSources)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
 // The whole run on a real two-view Middlebury 2014 pair (~0.36 Mpx each), both images.
 // Arg 0: the ACMH baseline of issue 4 (ablation row "ACMH": 11 px windows, ACMH pattern, no
 // prior; photometric + two geometric passes), the "under 5 s on 2 cores" target.
 // Arg 1: the default MP-MVS pipeline (6 stages, 21 iterations: two prior rounds).
 // Arg 2: the same with --MPMVS.settled_pixel_skips 2 (kernels/DESIGN.md 27).
+// Arg 3: --MPMVS.preset fast.
 void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
   const bool mpmvs = state.range(0) >= 1;
   const std::string dataset = std::string(MPMVS_SHARED_DATA_DIR) + "/middlebury2014_adirondack";
@@ -207,13 +244,14 @@ void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
       run.options.planar_prior = "none";
     }
     if (state.range(0) == 2) run.options.settled_pixel_skips = 2;
+    if (state.range(0) == 3) ApplyPreset("fast", [](const std::string&) { return false; }, &run.options);
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     seconds += summary.seconds;
   }
   state.counters["s_whole_run"] = seconds / state.iterations();
   state.counters["peak_MiB"] = PeakMemoryMiB();
 }
-BENCHMARK(BM_MiddleburyTwoViewPipeline)->ArgName("mpmvs")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_MiddleburyTwoViewPipeline)->ArgName("mpmvs")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
 }  // namespace mpmvs
