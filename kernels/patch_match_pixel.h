@@ -540,16 +540,19 @@ MPMVS_HD MPMVS_FORCE_INLINE void GatherCandidates(const PassParams& params,
 
 // 2a. The source views the candidates are costed in: all, or with params.costed_views = M
 // below the number of sources, the views most often selected last time by the pixel itself
-// (counted twice) and its four neighbours, up to M - 1 of them, the rest explored in turn
+// (counted twice), its four neighbours and the candidates' pixels, up to M - 1 of them, the
+// rest explored in turn
 // (a different view at each pixel and iteration), so that a view not selected nearby can
 // still show that it sees the pixel. The view selection then chooses among these only.
+MPMVS_HD MPMVS_FORCE_INLINE bool CostsFewerViews(const PassParams& params) {
+  return params.costed_views > 0 && params.num_sources > params.costed_views;
+}
 MPMVS_HD MPMVS_FORCE_INLINE uint32_t CostedViews(const PassParams& params, const uint32_t* masks,
                                                  int num_masks, uint32_t own_mask, int idx) {
   // masks: the views last selected by the neighbours and by the candidates' pixels.
   const int N = params.num_sources;
-  const uint32_t all = N >= 32 ? 0xffffffffu : (1u << N) - 1u;
+  if (!CostsFewerViews(params)) return N >= 32 ? 0xffffffffu : (1u << N) - 1u;
   const int M = params.costed_views;
-  if (M <= 0 || N <= M) return all;
   int votes[kMaxSourceViews];
   for (int s = 0; s < N; ++s) {
     int n = (own_mask >> s & 1u) ? 2 : 0;
@@ -617,6 +620,20 @@ MPMVS_HD MPMVS_FORCE_INLINE int NeighbourMasks(const PassParams& params, const P
   return n;
 }
 
+// The views a pixel's candidates are costed in (CostedViews), from the masks stored around it.
+MPMVS_HD MPMVS_FORCE_INLINE uint32_t ViewsToCost(const PassParams& params, const PixelState& state,
+                                                 const Candidates& cand, const uint32_t* neighbour_masks,
+                                                 int num_neighbours, int idx) {
+  if (!CostsFewerViews(params)) return ~0u;
+  uint32_t masks[4 + kNumRegions];
+  int num_masks = 0;
+  for (int i = 0; i < num_neighbours; ++i) masks[num_masks++] = neighbour_masks[i];
+  for (int r = 0; r < kNumRegions; ++r) {
+    if (cand.valid[r]) masks[num_masks++] = state.view_mask[cand.pixel[r]];
+  }
+  return CostedViews(params, masks, num_masks, state.view_mask[idx], idx);
+}
+
 // 3. View selection among the costed views, with the prior of the four neighbours' views;
 // returns the selected views, their weights in `weights`.
 MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params, const uint32_t* neighbour_masks,
@@ -626,8 +643,10 @@ MPMVS_HD MPMVS_FORCE_INLINE uint32_t SelectPixelViews(const PassParams& params, 
   float prior[kMaxSourceViews];
   NeighbourViewPrior(neighbour_masks, num_neighbours, params.num_sources, params.view_selection,
                      prior);
-  for (int s = 0; s < params.num_sources; ++s) {
-    if (!(costed >> s & 1u)) prior[s] = 0.f;
+  if (CostsFewerViews(params)) {
+    for (int s = 0; s < params.num_sources; ++s) {
+      if (!(costed >> s & 1u)) prior[s] = 0.f;
+    }
   }
   return SelectViews(photo, valid, params.num_sources, prior, params.view_selection, rng, weights);
 }
@@ -795,16 +814,7 @@ MPMVS_HD inline void UpdatePixel(const PassParams& params, const PixelState& sta
   GatherCandidates(params, state, u, v, ray, &cand);
   uint32_t neighbour_masks[4];
   const int num_neighbours = NeighbourMasks(params, state, u, v, neighbour_masks);
-  uint32_t costed = ~0u;
-  if (params.costed_views > 0 && params.num_sources > params.costed_views) {
-    uint32_t masks[4 + kNumRegions];
-    int num_masks = 0;
-    for (int i = 0; i < num_neighbours; ++i) masks[num_masks++] = neighbour_masks[i];
-    for (int r = 0; r < kNumRegions; ++r) {
-      if (cand.valid[r]) masks[num_masks++] = state.view_mask[cand.pixel[r]];
-    }
-    costed = CostedViews(params, masks, num_masks, state.view_mask[idx], idx);
-  }
+  const uint32_t costed = ViewsToCost(params, state, cand, neighbour_masks, num_neighbours, idx);
   float photo[kNumRegions * kMaxSourceViews];
   CandidatePhotoCosts<Ncc>(params, patch, cand, costed, u, v, photo, num_ncc);
   float weights[kMaxSourceViews];

@@ -11,6 +11,7 @@
 #include <boost/program_options.hpp>
 
 #include "colmap_ext/util/error.h"
+#include "colmap_ext/util/logging.h"
 
 namespace po = boost::program_options;
 
@@ -27,12 +28,6 @@ constexpr int kStyle = po::command_line_style::allow_long |
 std::string Lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
-}
-
-std::string FormatDouble(double v) {
-  std::ostringstream ss;
-  ss << v;
-  return ss.str();
 }
 
 }  // namespace
@@ -73,7 +68,7 @@ void OptionParser::Add(const std::string& name, int* value, const std::string& h
 }
 
 void OptionParser::Add(const std::string& name, double* value, const std::string& help) {
-  AddOption(name, {help, "num", FormatDouble(*value), false, false, [value](const std::string& t) {
+  AddOption(name, {help, "num", FormatNumber(*value), false, false, [value](const std::string& t) {
                      errno = 0;
                      char* end = nullptr;
                      const double v = std::strtod(t.c_str(), &end);

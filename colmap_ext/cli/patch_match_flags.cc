@@ -28,8 +28,8 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   auto preset = std::make_shared<std::string>("default");
   parser->Add(q + "preset", preset.get(),
               std::string("defaults of all --MPMVS options: default, fast (about half the iterations) or "
-                          "paper (MP-MVS as published; docs/options.md); options given explicitly override it [") +
-                  PresetNames() + "]");
+                          "paper (MP-MVS as published; docs/options.md); options given explicitly override it [" +
+                  PresetNames() + "]"));
   m->Visit([&](const OptionSpec& spec, auto& field, const auto&) {
     parser->Add(q + spec.name, &field, HelpText(spec));
   });

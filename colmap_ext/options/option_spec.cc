@@ -3,14 +3,10 @@
 #include <sstream>
 #include <vector>
 
+#include "colmap_ext/util/logging.h"
+
 namespace mpmvs {
 namespace {
-
-std::string Number(double v) {
-  std::ostringstream ss;
-  ss << v;
-  return ss.str();
-}
 
 std::vector<std::string> Words(const char* text) {
   std::vector<std::string> words;
@@ -49,12 +45,12 @@ bool OptionRange::Allows(const std::string& value) const {
 std::string OptionRange::Text() const {
   switch (kind) {
     case Kind::kAny: return "";
-    case Kind::kClosed: return "in [" + Number(lo) + ", " + Number(hi) + "]";
-    case Kind::kOpen: return "in (" + Number(lo) + ", " + Number(hi) + ")";
-    case Kind::kClosedOpen: return "in [" + Number(lo) + ", " + Number(hi) + ")";
-    case Kind::kAtLeast: return ">= " + Number(lo);
-    case Kind::kAbove: return "> " + Number(lo);
-    case Kind::kMinusOneOrAbove: return "-1 or > " + Number(lo);
+    case Kind::kClosed: return "in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]";
+    case Kind::kOpen: return "in (" + FormatNumber(lo) + ", " + FormatNumber(hi) + ")";
+    case Kind::kClosedOpen: return "in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + ")";
+    case Kind::kAtLeast: return ">= " + FormatNumber(lo);
+    case Kind::kAbove: return "> " + FormatNumber(lo);
+    case Kind::kMinusOneOrAbove: return "-1 or > " + FormatNumber(lo);
     case Kind::kText: {
       if (!choices) return text;
       const std::vector<std::string> words = Words(text);

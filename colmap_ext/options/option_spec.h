@@ -35,9 +35,8 @@ struct OptionRange {
   // Any non-empty text; `what` describes it in messages.
   static constexpr OptionRange NonEmpty(const char* what) { return {Kind::kText, 0, 0, what, false}; }
 
-  bool Allows(double value) const;
+  bool Allows(double value) const;  // also booleans (0, 1), which take kAny
   bool Allows(const std::string& value) const;
-  bool Allows(bool) const { return true; }
   // "in [0, 4]", ">= 1", "none, photometric or geometric", ... ("" for kAny).
   std::string Text() const;
 };

@@ -16,7 +16,7 @@ bool Fail(std::string* error, const std::string& name, const T& value, const std
 
 template <typename T>
 bool Allowed(const OptionRange& range, const T& value) {
-  if constexpr (std::is_same_v<T, std::string> || std::is_same_v<T, bool>) {
+  if constexpr (std::is_same_v<T, std::string>) {
     return range.Allows(value);
   } else {
     return range.Allows(static_cast<double>(value));
@@ -36,11 +36,7 @@ bool CheckRanges(const Options& options, const std::string& section, std::string
 template <typename T>
 std::string ValueText(const T& value) {
   std::ostringstream ss;
-  if constexpr (std::is_same_v<T, bool>) {
-    ss << (value ? 1 : 0);
-  } else {
-    ss << value;
-  }
+  ss << value;  // booleans as 1 or 0
   const std::string text = ss.str();
   return text.empty() ? "\"\"" : text;
 }
@@ -81,7 +77,11 @@ PlanarPriorMode MpMvsOptions::PriorMode() const {
 
 bool MpMvsOptions::Check(std::string* error) const { return CheckRanges(*this, "MPMVS.", error); }
 
-const char* PresetNames() { return "default|fast|paper"; }
+std::string PresetNames() {
+  std::string names;
+  for (const char* name : kPresetNames) names += (names.empty() ? "" : "|") + std::string(name);
+  return names;
+}
 
 bool ApplyPreset(const std::string& preset, const std::function<bool(const std::string&)>& given,
                  MpMvsOptions* options) {

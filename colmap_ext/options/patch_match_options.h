@@ -136,19 +136,20 @@ struct PatchMatchStereoOptions {
 
   // Every declared option: visit(spec, field) (field: a reference to this struct's value).
   template <typename Visitor>
-  void Visit(Visitor&& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)                                                          \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME);
+  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
+  template <typename Visitor>
+  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
+
+  bool Check(std::string* error) const;
+
+ private:
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor& visit) {
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) \
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME);
     MPMVS_COLMAP_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
   }
-  template <typename Visitor>
-  void Visit(Visitor&& visit) const {
-    const_cast<PatchMatchStereoOptions*>(this)->Visit(
-        [&](const OptionSpec& spec, const auto& field) { visit(spec, field); });
-  }
-
-  bool Check(std::string* error) const;
 };
 
 enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
@@ -170,27 +171,28 @@ struct MpMvsOptions {
 
   // Every declared option: visit(spec, field, presets), presets.at(k) its value in preset k.
   template <typename Visitor>
-  void Visit(Visitor&& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)                                             \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, NAME,       \
+  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
+  template <typename Visitor>
+  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
+
+  PlanarPriorMode PriorMode() const;
+  bool Check(std::string* error) const;
+
+ private:
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor& visit) {
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP) \
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME,   \
         OptionPresets<TYPE>{{TYPE(DEFAULT), TYPE(FAST), TYPE(PAPER)}});
     MPMVS_METHOD_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
   }
-  template <typename Visitor>
-  void Visit(Visitor&& visit) const {
-    const_cast<MpMvsOptions*>(this)->Visit(
-        [&](const OptionSpec& spec, const auto& field, const auto& presets) { visit(spec, field, presets); });
-  }
-
-  PlanarPriorMode PriorMode() const;
-  bool Check(std::string* error) const;
 };
 
 // A preset (kPresetNames) sets every option that changes results for which given(name) is
 // false; options given explicitly keep their value, and so do the options of the run (kRun).
 // False for an unknown preset.
-const char* PresetNames();  // "default|fast|paper"
+std::string PresetNames();  // "default|fast|paper"
 bool ApplyPreset(const std::string& preset, const std::function<bool(const std::string& name)>& given,
                  MpMvsOptions* options);
 

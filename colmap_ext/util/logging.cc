@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <ctime>
 #include <mutex>
+#include <sstream>
 
 namespace mpmvs {
 namespace {
@@ -37,6 +38,12 @@ void LogHeading(const std::string& title) {
               "==============================================================================\n",
               title.c_str());
   std::fflush(stdout);
+}
+
+std::string FormatNumber(double value) {
+  std::ostringstream ss;
+  ss << value;
+  return ss.str();
 }
 
 std::string FormatDuration(double seconds) {

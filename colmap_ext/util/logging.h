@@ -13,6 +13,8 @@ void LogHeading(const std::string& title);
 
 // "1:02:03" / "2:03" style duration.
 std::string FormatDuration(double seconds);
+// A number as std::ostream prints it by default ("0.2", "1e+06": 6 significant digits).
+std::string FormatNumber(double value);
 
 // Reports "label: i/N (pct) elapsed, ETA" after each finished item.
 class ProgressReporter {

@@ -42,6 +42,13 @@ PlaneScene MakeScene(int W, int H, float noise_sigma) {
 
 PatchMatchProblem MakeProblem(const PlaneScene& scene) { return test::MakePlaneSceneProblem(scene, 2.f, 8.f); }
 
+// NCCs of a run's iterations (the initialisation left out).
+uint64_t IterationNccs(const PatchMatchResult& result) {
+  uint64_t n = 0;
+  for (const IterationStats& it : result.iterations) n += it.ncc_evaluations;
+  return n;
+}
+
 PatchMatchSchedule MultiScaleSchedule(int max_scale, int per_scale) {
   PatchMatchSchedule schedule = mpmvs::test::ScheduleWithOptionDefaults();
   for (int s = max_scale; s >= 0; --s) {
@@ -134,8 +141,7 @@ TEST(PatchMatchCpu, DeterministicAcrossThreadCounts) {
     RunPatchMatchCpu(problem, schedule, &b);
     EXPECT_EQ(a.plane, b.plane) << "settled skips " << skips;
     EXPECT_EQ(a.cost, b.cost) << "settled skips " << skips;
-    uint64_t nccs = 0;
-    for (const IterationStats& it : a.iterations) nccs += it.ncc_evaluations;
+    const uint64_t nccs = IterationNccs(a);
     if (skips == 0) nccs_without_skips = nccs;
     else EXPECT_LT(nccs, nccs_without_skips) << "the skipping run must skip";
     schedule.seed = 43;
@@ -171,11 +177,6 @@ TEST(PatchMatchCpu, CostedViewsBoundTheWorkPerUpdateAndKeepThePlane) {
   const PatchMatchProblem problem = MakeProblem(scene);
   ASSERT_EQ(problem.sources.size(), 6u);
   PatchMatchSchedule schedule = MultiScaleSchedule(1, 3);
-  auto iteration_nccs = [](const PatchMatchResult& r) {
-    uint64_t n = 0;
-    for (const IterationStats& it : r.iterations) n += it.ncc_evaluations;
-    return n;
-  };
   PatchMatchResult all, three, three_one_thread;
   RunPatchMatchCpu(problem, schedule, &all);
   schedule.costed_views = 3;
@@ -186,9 +187,9 @@ TEST(PatchMatchCpu, CostedViewsBoundTheWorkPerUpdateAndKeepThePlane) {
   const PlaneRecovery a = MeasureRecovery(scene, problem, all);
   const PlaneRecovery b = MeasureRecovery(scene, problem, three);
   std::printf("6 sources, candidates costed in all views: %llu NCCs, %.2f%% depths; in 3: %llu NCCs, %.2f%%\n",
-              static_cast<unsigned long long>(iteration_nccs(all)), 100 * a.depth_ratio,
-              static_cast<unsigned long long>(iteration_nccs(three)), 100 * b.depth_ratio);
-  EXPECT_LT(iteration_nccs(three), 0.65 * iteration_nccs(all));
+              static_cast<unsigned long long>(IterationNccs(all)), 100 * a.depth_ratio,
+              static_cast<unsigned long long>(IterationNccs(three)), 100 * b.depth_ratio);
+  EXPECT_LT(IterationNccs(three), 0.65 * IterationNccs(all));
   EXPECT_GE(b.depth_ratio, a.depth_ratio - 0.03);
   EXPECT_GE(b.depth_ratio, 0.95);
   // The initialisation costs every view either way.
@@ -250,17 +251,12 @@ TEST(PatchMatchCpu, SettledPixelsSkipUpdatesWithoutLosingThePlane) {
   RunPatchMatchCpu(problem, schedule, &every);
   schedule.settled_skips = 2;
   RunPatchMatchCpu(problem, schedule, &skipping);
-  auto nccs = [](const PatchMatchResult& r) {
-    uint64_t n = 0;
-    for (const IterationStats& it : r.iterations) n += it.ncc_evaluations;
-    return n;
-  };
   const PlaneRecovery a = MeasureRecovery(scene, problem, every);
   const PlaneRecovery b = MeasureRecovery(scene, problem, skipping);
   std::printf("every pixel in every pass: %llu NCCs, %.2f%% depths; settled pixels skip 2: %llu NCCs, %.2f%%\n",
-              static_cast<unsigned long long>(nccs(every)), 100 * a.depth_ratio,
-              static_cast<unsigned long long>(nccs(skipping)), 100 * b.depth_ratio);
-  EXPECT_LT(nccs(skipping), 0.8 * nccs(every));
+              static_cast<unsigned long long>(IterationNccs(every)), 100 * a.depth_ratio,
+              static_cast<unsigned long long>(IterationNccs(skipping)), 100 * b.depth_ratio);
+  EXPECT_LT(IterationNccs(skipping), 0.8 * IterationNccs(every));
   EXPECT_GE(b.depth_ratio, a.depth_ratio - 0.005);
   EXPECT_GE(b.normal_ratio, a.normal_ratio - 0.01);
   // The first iteration updates every pixel: nothing has settled before it.
