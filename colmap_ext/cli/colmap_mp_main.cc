@@ -1,5 +1,6 @@
 // colmap-mp: COLMAP's command line with mp_patch_match_stereo added. Our own commands run
-// here; every other command is handed to the `colmap` executable unchanged (arguments and
+// here, and so does COLMAP's patch_match_stereo (as mp_patch_match_stereo, which takes its
+// options); every other command is handed to the `colmap` executable unchanged (arguments and
 // exit code), so existing scripts only rename the binary.
 #include <unistd.h>
 
@@ -21,10 +22,20 @@ namespace {
 
 using Command = std::function<int(const std::vector<std::string>&)>;
 
+// COLMAP's name for the dense step: a script written for `colmap` runs MP-MVS when it calls
+// colmap-mp instead. Stock COLMAP's stays reachable as `colmap patch_match_stereo`.
+int RunPatchMatchStereoUnderColmapsName(const std::vector<std::string>& args) {
+  mpmvs::LogInfo("colmap-mp patch_match_stereo runs MP-MVS (mp_patch_match_stereo); COLMAP's own is `" +
+                 mpmvs::ColmapExecutableName() + " patch_match_stereo`");
+  return mpmvs::RunMpPatchMatchStereoCommand(args);
+}
+
 const std::vector<std::pair<std::string, std::pair<Command, std::string>>>& Commands() {
   static const std::vector<std::pair<std::string, std::pair<Command, std::string>>> commands = {
       {"mp_patch_match_stereo", {mpmvs::RunMpPatchMatchStereoCommand,
                                  "MP-MVS depth/normal maps for a COLMAP dense workspace"}},
+      {"patch_match_stereo", {RunPatchMatchStereoUnderColmapsName,
+                              "the same under COLMAP's name (COLMAP's own: colmap patch_match_stereo)"}},
       {"slurm_submit", {mpmvs::RunSlurmSubmitCommand,
                         "run mp_patch_match_stereo on a Slurm cluster: one job array per stage"}},
       {"demo", {mpmvs::RunDemoCommand,
@@ -42,7 +53,7 @@ const std::vector<std::pair<std::string, std::pair<Command, std::string>>>& Comm
 void PrintHelp() {
   std::cout << "colmap-mp " << MPMVS_VERSION_STRING
             << " -- MP-MVS multi-view stereo for COLMAP workspaces\n\n"
-               "Usage:\n  colmap-mp COMMAND [OPTIONS]\n  colmap-mp COMMAND -h\n\n"
+               "Usage:\n  colmap-mp COMMAND [OPTIONS]\n  colmap-mp COMMAND -h\n  colmap-mp --version\n\n"
                "mp-mvs commands:\n";
   for (const auto& c : Commands()) {
     std::printf("  %-22s %s\n", c.first.c_str(), c.second.second.c_str());
@@ -66,7 +77,7 @@ int main(int argc, char** argv) {
     return argc < 2 ? 1 : 0;
   }
   const std::string command = argv[1];
-  if (command == "version") {
+  if (command == "version" || command == "--version") {
     std::cout << "colmap-mp " << MPMVS_VERSION_STRING << "\n";
     return 0;
   }

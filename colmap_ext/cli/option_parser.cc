@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include <boost/program_options.hpp>
@@ -30,15 +31,27 @@ std::string Lower(std::string s) {
   return s;
 }
 
+// An INI project file as COLMAP reads it: "[Section]" headers, "key = value" lines, '#'
+// comments; a key under [Section] is the option Section.key.
+po::parsed_options ParseProjectFile(const std::string& path, const po::options_description& description) {
+  std::ifstream file(path);
+  if (!file) throw Error("cannot read the project file " + path + " (--project_path)");
+  try {
+    return po::parse_config_file(file, description, /*allow_unregistered=*/true);
+  } catch (const po::error& e) {
+    throw Error(path + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 bool ParseBool(const std::string& text, bool* value) {
   const std::string t = Lower(text);
-  if (t == "1" || t == "true") {
+  if (t == "1" || t == "true" || t == "yes" || t == "on") {
     *value = true;
     return true;
   }
-  if (t == "0" || t == "false") {
+  if (t == "0" || t == "false" || t == "no" || t == "off") {
     *value = false;
     return true;
   }
@@ -92,6 +105,20 @@ void OptionParser::AddRequired(const std::string& name, std::string* value,
   options_[name].default_text.clear();
 }
 
+std::vector<OptionParser::GivenOption> OptionParser::GivenOptions(const po::parsed_options& parsed) {
+  std::vector<GivenOption> given;
+  for (const po::option& o : parsed.options) {
+    given.push_back({o.string_key, o.value.empty() ? "" : o.value.front(),
+                     o.original_tokens.empty() ? "" : o.original_tokens.front(), o.unregistered});
+  }
+  return given;
+}
+
+void OptionParser::AddProjectFile(const std::string& name, std::string* path, const std::string& help) {
+  Add(name, path, help);
+  project_file_option_ = name;
+}
+
 void OptionParser::AddIgnored(const std::string& name, const std::string& hint) {
   AddOption(name, {hint, "any", "", false, true, [](const std::string&) { return true; }});
 }
@@ -132,40 +159,62 @@ bool OptionParser::Parse(const std::vector<std::string>& args) {
 
   warnings_.clear();
   given_.clear();
-  std::map<std::string, int>& count = given_;
-  for (const po::option& given : parsed.options) {
-    const std::string& name = given.string_key;
-    if (name == "help") return false;
-    if (name.empty()) {  // a word that is no option
-      const std::string& word = given.original_tokens.front();
-      if (word == "-h") return false;
-      throw Error("unexpected argument '" + word + "' (options are given as --name value)");
+  const std::vector<GivenOption> command_line = GivenOptions(parsed);
+  for (const GivenOption& g : command_line) {
+    if (g.name == "help" || (g.name.empty() && g.word == "-h")) return false;
+  }
+  // The project file first: the command line overrides it.
+  std::string project_file;
+  for (const GivenOption& g : command_line) {
+    if (!project_file_option_.empty() && g.name == project_file_option_) project_file = g.value;
+  }
+  std::map<std::string, int> in_file, on_command_line;
+  if (!project_file.empty()) {
+    if (!Apply(GivenOptions(ParseProjectFile(project_file, description)), project_file, &in_file)) return false;
+  }
+  if (!Apply(command_line, "", &on_command_line)) return false;
+  for (const std::string& name : order_) {
+    const Option& option = options_.at(name);
+    given_[name] = in_file[name] + on_command_line[name];
+    if (option.required && !given_[name]) throw Error("missing required option --" + name);
+    if (option.ignored) {
+      if (given_[name]) {
+        warnings_.push_back("--" + name + " is accepted for COLMAP compatibility but ignored: " + option.help);
+      }
+      continue;
     }
-    if (given.unregistered) {
+    if (on_command_line[name] > 1) {
+      warnings_.push_back("--" + name + " is given " + std::to_string(on_command_line[name]) +
+                          " times; the last value is used");
+    }
+    if (in_file[name] > 1) {
+      warnings_.push_back(name + " is given " + std::to_string(in_file[name]) + " times in " + project_file +
+                          "; the last value is used");
+    }
+  }
+  for (const auto& callback : on_parsed_) callback(*this);
+  return true;
+}
+
+bool OptionParser::Apply(const std::vector<GivenOption>& given, const std::string& file, std::map<std::string, int>* count) {
+  const std::string where = file.empty() ? "" : " in " + file;
+  for (const GivenOption& g : given) {
+    if (g.name == "help") return false;
+    if (g.name.empty()) {  // a word that is no option
+      if (g.word == "-h") return false;
+      throw Error("unexpected argument '" + g.word + "' (options are given as --name value)");
+    }
+    if (g.unregistered || (!file.empty() && g.name == project_file_option_)) {
       std::string valid;
       for (const std::string& n : order_) {
         if (!options_.at(n).ignored) valid += "\n  --" + n;
       }
-      throw Error("unknown option --" + name + ". Valid options:" + valid);
+      throw Error("unknown option --" + g.name + where + ". Valid options:" + valid);
     }
-    const Option& option = options_.at(name);
-    const std::string& value = given.value.front();
-    if (!option.set(value)) throw Error("bad value '" + value + "' for option --" + name);
-    if (option.ignored && count[name] == 0) {
-      warnings_.push_back("--" + name + " is accepted for COLMAP compatibility but ignored: " +
-                          option.help);
-    }
-    ++count[name];
+    const Option& option = options_.at(g.name);
+    if (!option.set(g.value)) throw Error("bad value '" + g.value + "' for option --" + g.name + where);
+    ++(*count)[g.name];
   }
-  for (const std::string& name : order_) {
-    const Option& option = options_.at(name);
-    if (option.required && !count[name]) throw Error("missing required option --" + name);
-    if (!option.ignored && count[name] > 1) {
-      warnings_.push_back("--" + name + " is given " + std::to_string(count[name]) +
-                          " times; the last value is used");
-    }
-  }
-  for (const auto& callback : on_parsed_) callback(*this);
   return true;
 }
 

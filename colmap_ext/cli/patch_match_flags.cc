@@ -4,6 +4,7 @@
 #include <string>
 
 #include "colmap_ext/util/error.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {
@@ -40,12 +41,39 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   });
 }
 
+void AddGeneralOptions(OptionParser* parser, MpMvsOptions* m) {
+  auto general = std::make_shared<GeneralOptions>();
+  general->Visit([&](const OptionSpec& spec, auto& field) {
+    if (std::string(spec.name) == "project_path") {
+      parser->AddProjectFile(spec.name, &general->project_path, HelpText(spec));
+    } else {
+      parser->Add(spec.name, &field, HelpText(spec));
+    }
+  });
+  // After the preset's callback (AddPatchMatchOptions), which sets the seed it was not given.
+  parser->OnParsed([general, m](const OptionParser& parsed) {
+    std::string error;
+    if (!general->Check(&error)) throw Error(error);
+    SetLogToStderr(general->log_to_stderr);
+    SetLogLevel(general->log_level);
+    if (!parsed.Given("random_seed") || parsed.Given("MPMVS.seed")) return;
+    const int seed = SeedForRandomSeed(general->random_seed);
+    if (seed < 0) {
+      LogWarning("--random_seed -1 (a seed from the clock) is not used: resumed runs and shards must draw the same "
+                 "random streams; running with --MPMVS.seed " + std::to_string(m->seed));
+    } else {
+      m->seed = seed;
+    }
+  });
+}
+
 void AddMpPatchMatchRunOptions(OptionParser* parser, MpPatchMatchRun* run, std::string* pmvs_option_name) {
   parser->AddRequired("workspace_path", &run->workspace_path, "COLMAP dense workspace (image_undistorter output)");
   parser->Add("workspace_format", &run->workspace_format, "COLMAP (PMVS is not supported)");
   parser->Add("pmvs_option_name", pmvs_option_name, "accepted for COLMAP compatibility (PMVS only)");
   parser->Add("config_path", &run->config_path, "patch-match.cfg to use instead of stereo/patch-match.cfg");
   AddPatchMatchOptions(parser, &run->colmap_options, &run->options);
+  AddGeneralOptions(parser, &run->options);
 }
 
 }  // namespace mpmvs

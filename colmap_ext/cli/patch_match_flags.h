@@ -11,8 +11,12 @@ namespace mpmvs {
 void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* colmap_options,
                           MpMvsOptions* mpmvs_options);
 
+// COLMAP's general options (--project_path, --log_to_stderr, --log_level, --random_seed):
+// applied once parsed (logging, and --random_seed to mpmvs_options->seed).
+void AddGeneralOptions(OptionParser* parser, MpMvsOptions* mpmvs_options);
+
 // Everything mp_patch_match_stereo accepts: --workspace_path (required), the workspace
-// options and AddPatchMatchOptions. pmvs_option_name: accepted and unused (COLMAP's PMVS).
+// options, AddPatchMatchOptions and AddGeneralOptions. pmvs_option_name: accepted and unused (COLMAP's PMVS).
 void AddMpPatchMatchRunOptions(OptionParser* parser, MpPatchMatchRun* run, std::string* pmvs_option_name);
 
 }  // namespace mpmvs

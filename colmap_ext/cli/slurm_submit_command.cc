@@ -169,8 +169,7 @@ int RunSlurmSubmitCommand(const std::vector<std::string>& args) {
     throw Error("slurm_submit sets --MPMVS.shard and --MPMVS.stage of each task itself and runs every image; "
                 "leave out --MPMVS.shard, --MPMVS.stage and --MPMVS.image_list_path");
   }
-  bool threads_given = false;
-  for (const std::string& a : mp_args) threads_given |= a.rfind("--PatchMatchStereo.num_threads", 0) == 0;
+  const bool threads_given = mp.Given("PatchMatchStereo.num_threads");  // on the command line or in --project_path
 
   const std::string ws = AbsolutePath(run.workspace_path);
   const std::string dir = JoinPaths(ws, "stereo/mpmvs/slurm");

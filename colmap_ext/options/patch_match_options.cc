@@ -1,5 +1,6 @@
 #include "colmap_ext/options/patch_match_options.h"
 
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -69,6 +70,13 @@ bool PatchMatchStereoOptions::Check(std::string* error) const {
   return true;
 }
 
+bool GeneralOptions::Check(std::string* error) const { return CheckRanges(*this, "", error); }
+
+int SeedForRandomSeed(int random_seed) {
+  if (random_seed < 0) return -1;
+  return random_seed == std::numeric_limits<int>::max() ? random_seed : random_seed + 1;
+}
+
 PlanarPriorMode MpMvsOptions::PriorMode() const {
   if (planar_prior == "photometric") return PlanarPriorMode::kPhotometric;
   if (planar_prior == "geometric") return PlanarPriorMode::kGeometric;
@@ -110,8 +118,16 @@ std::string OptionsMarkdown() {
   md << "# Options of mp_patch_match_stereo\n\n"
         "Generated from the declarations in `colmap_ext/options/patch_match_options.h` (a test keeps this file\n"
         "equal to them; `MPMVS_UPDATE_DOCS=1 build/mpmvs_tests --gtest_filter='OptionDocs.*'` rewrites it).\n"
-        "`colmap-mp mp_patch_match_stereo -h` prints the same. Booleans take 1|0 or true|false.\n\n"
-        "## COLMAP's options\n\n"
+        "`colmap-mp mp_patch_match_stereo -h` prints the same. Booleans take 1|0, true|false, yes|no or on|off.\n\n"
+        "## COLMAP's general options\n\n"
+        "The options every COLMAP command takes.\n\n"
+        "| option | default | range | meaning |\n|---|---|---|---|\n";
+  GeneralOptions general;
+  general.Visit([&](const OptionSpec& spec, const auto& value) {
+    md << "| `--" << spec.name << "` | " << MarkdownCell(ValueText(value)) << " | " << MarkdownCell(spec.range.Text())
+       << " | " << MarkdownCell(spec.help) << " |\n";
+  });
+  md << "\n## COLMAP's PatchMatchStereo options\n\n"
         "Accepted under COLMAP's names and with COLMAP's meaning.\n\n"
         "| option | default | range | meaning |\n|---|---|---|---|\n";
   PatchMatchStereoOptions colmap;

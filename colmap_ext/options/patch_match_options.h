@@ -12,6 +12,22 @@
 
 namespace mpmvs {
 
+// COLMAP's general options, which every COLMAP command takes (its OptionManager's project,
+// log and random options). X(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)
+#define MPMVS_GENERAL_OPTIONS(X)                                                                                       \
+  X(std::string, project_path, "", OptionRange::Any(), kRun,                                                           \
+    "INI project file read before the command line: top-level keys (workspace_path = dense) and [Section] keys "   \
+    "(--Section.key); the command line overrides the file (COLMAP ignores the command line then)")                 \
+  X(bool, log_to_stderr, false, OptionRange::Any(), kRun,                                                              \
+    "1 = every log line on stderr; 0 = information on stdout, warnings and errors on stderr")                          \
+  X(int, log_level, 2, OptionRange::Any(), kRun,                                                                       \
+    "COLMAP's verbosity: 2 (and above) logs each image's sources, planar prior and depth check, 1 only a progress " \
+    "line per image and stage, 0 (and below) only stages, summaries, warnings and errors")                             \
+  X(int, random_seed, 0, OptionRange::AtLeast(-1), kRun,                                                    \
+    "COLMAP's seed, counted from COLMAP's default 0: sets --MPMVS.seed to random_seed + 1 (so 0 runs mp-mvs's "        \
+    "default seed 1) unless --MPMVS.seed is given; -1 (COLMAP: from the clock) keeps the seed, with a warning, as "     \
+    "resumed runs and shards must draw the same random streams")
+
 // COLMAP's PatchMatchStereo options that keep their COLMAP meaning.
 // X(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)
 #define MPMVS_COLMAP_OPTIONS(X)                                                                                        \
@@ -24,7 +40,9 @@ namespace mpmvs {
   X(bool, geom_consistency, true, OptionRange::Any(), kResult,                                                         \
     "run the geometric stages and write .geometric.bin")                                                               \
   X(bool, filter, false, OptionRange::Any(), kResult,                                                                  \
-    "COLMAP-style filter of the written maps (off by default: docs/algorithm.md)")                                     \
+    "COLMAP-style filter of the written maps; off by default here, on in COLMAP: the depth_check stage already "    \
+    "keeps only depths that a source's map confirms, and the filter's NCC test is least reliable on the plain "     \
+    "surfaces the planar prior fills (docs/algorithm.md 9.2)")                                                         \
   X(double, filter_min_ncc, 0.1, OptionRange::Closed(-1, 1), kResult, "filter: minimum NCC")                           \
   X(double, filter_min_triangulation_angle, 3.0, OptionRange::Closed(0, 180), kResult,                                 \
     "filter: minimum triangulation angle (degrees)")                                                                   \
@@ -152,6 +170,29 @@ struct PatchMatchStereoOptions {
   }
 };
 
+struct GeneralOptions {
+#define MPMVS_FIELD(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
+  MPMVS_GENERAL_OPTIONS(MPMVS_FIELD)
+#undef MPMVS_FIELD
+
+  // Every declared option: visit(spec, field).
+  template <typename Visitor>
+  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
+  template <typename Visitor>
+  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
+
+  bool Check(std::string* error) const;
+
+ private:
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor& visit) {
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) \
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME);
+    MPMVS_GENERAL_OPTIONS(MPMVS_VISIT)
+#undef MPMVS_VISIT
+  }
+};
+
 enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
 
 // Presets: named sets of --MPMVS values, in this order (OptionPresets::values).
@@ -195,6 +236,10 @@ struct MpMvsOptions {
 std::string PresetNames();  // "default|fast|paper"
 bool ApplyPreset(const std::string& preset, const std::function<bool(const std::string& name)>& given,
                  MpMvsOptions* options);
+
+// --MPMVS.seed for COLMAP's --random_seed (MPMVS_GENERAL_OPTIONS): random_seed + 1, so that
+// COLMAP's default seed gives mp-mvs's; -1 when random_seed asks for a seed from the clock.
+int SeedForRandomSeed(int random_seed);
 
 // The values of the options that change results, one "name value" line each in declaration
 // order (doubles with 17 digits; kResultWhenSet options only away from their default): the

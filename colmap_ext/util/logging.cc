@@ -1,5 +1,6 @@
 #include "colmap_ext/util/logging.h"
 
+#include <atomic>
 #include <cstdio>
 #include <ctime>
 #include <mutex>
@@ -7,6 +8,9 @@
 
 namespace mpmvs {
 namespace {
+
+std::atomic<bool> log_to_stderr{false};
+std::atomic<int> log_level{2};
 
 std::mutex& LogMutex() {
   static std::mutex mutex;
@@ -20,7 +24,7 @@ void Log(char level, const std::string& message) {
   char stamp[32];
   std::strftime(stamp, sizeof(stamp), "%m%d %H:%M:%S", &tm);
   std::lock_guard<std::mutex> lock(LogMutex());
-  FILE* out = level == 'I' ? stdout : stderr;
+  FILE* out = level == 'I' && !log_to_stderr ? stdout : stderr;
   std::fprintf(out, "%c%s %s\n", level, stamp, message.c_str());
   std::fflush(out);
 }
@@ -28,17 +32,24 @@ void Log(char level, const std::string& message) {
 }  // namespace
 
 void LogInfo(const std::string& message) { Log('I', message); }
+void LogDetail(const std::string& message) {
+  if (log_level >= 2) Log('I', message);
+}
 void LogWarning(const std::string& message) { Log('W', "WARNING: " + message); }
 void LogError(const std::string& message) { Log('E', "ERROR: " + message); }
 
 void LogHeading(const std::string& title) {
   std::lock_guard<std::mutex> lock(LogMutex());
-  std::printf("\n==============================================================================\n"
+  FILE* out = log_to_stderr ? stderr : stdout;
+  std::fprintf(out, "\n==============================================================================\n"
               "%s\n"
               "==============================================================================\n",
               title.c_str());
-  std::fflush(stdout);
+  std::fflush(out);
 }
+
+void SetLogToStderr(bool to_stderr) { log_to_stderr = to_stderr; }
+void SetLogLevel(int level) { log_level = level; }
 
 std::string FormatNumber(double value) {
   std::ostringstream ss;
@@ -73,7 +84,7 @@ void ProgressReporter::Step(const std::string& detail) {
   std::snprintf(buf, sizeof(buf), "%s: %d/%d (%.0f%%) %s, elapsed %s, ETA %s", label_.c_str(),
                 done_, total_, total_ > 0 ? 100.0 * done_ / total_ : 100.0, detail.c_str(),
                 FormatDuration(elapsed).c_str(), FormatDuration(eta).c_str());
-  LogInfo(buf);
+  if (log_level >= 1) LogInfo(buf);
 }
 
 }  // namespace mpmvs

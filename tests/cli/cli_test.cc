@@ -74,8 +74,8 @@ TEST(Cli, OtherCommandsGoToColmapWithTheirExitCode) {
   MPMVS_REQUIRE_COLMAP(colmap);
   test::TempDir tmp;
   // A failing colmap command: same exit code and message as colmap itself.
-  const int direct = test::RunCommand("'" + colmap + "' patch_match_stereo --workspace_path " + tmp.path(), tmp / "d");
-  const CliRun r = ColmapMp("patch_match_stereo --workspace_path " + tmp.path(), tmp / "log");
+  const int direct = test::RunCommand("'" + colmap + "' stereo_fusion --workspace_path " + tmp.path(), tmp / "d");
+  const CliRun r = ColmapMp("stereo_fusion --workspace_path " + tmp.path(), tmp / "log");
   EXPECT_EQ(r.code, direct);
   EXPECT_NE(direct, 0);
   EXPECT_EQ(r.output, test::ReadTextFile(tmp / "d"));
@@ -87,6 +87,72 @@ TEST(Cli, OtherCommandsGoToColmapWithTheirExitCode) {
                          tmp / "log2");
   EXPECT_EQ(c.code, 0) << c.output;
   EXPECT_TRUE(fs::exists(tmp / "txt/images.txt"));
+}
+
+TEST(Cli, VersionAsOptionOrCommand) {
+  test::TempDir tmp;
+  for (const char* form : {"--version", "version"}) {
+    const CliRun r = ColmapMp(form, tmp / "log");
+    EXPECT_EQ(r.code, 0) << form;
+    EXPECT_EQ(r.output.rfind("colmap-mp ", 0), 0u) << r.output;
+  }
+}
+
+// A script written for COLMAP runs MP-MVS under COLMAP's command name, and says so.
+TEST(Cli, PatchMatchStereoUnderColmapsNameRunsMpMvs) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 48, 36, 2);
+  const CliRun r = ColmapMp("patch_match_stereo --workspace_path " + tmp.path() +
+                                " --workspace_format COLMAP --PatchMatchStereo.geom_consistency true",
+                            tmp / "log");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("colmap-mp patch_match_stereo runs MP-MVS (mp_patch_match_stereo); COLMAP's own is `"),
+            std::string::npos)
+      << r.output;
+  for (const char* map : {"depth_maps/view_00.png.geometric.bin", "normal_maps/view_01.png.geometric.bin"}) {
+    EXPECT_TRUE(fs::exists(tmp / (std::string("stereo/") + map))) << map;
+  }
+  const CliRun h = ColmapMp("help", tmp / "log2");
+  EXPECT_NE(h.output.find("patch_match_stereo"), h.output.find("mp_patch_match_stereo")) << h.output;
+}
+
+// COLMAP's general options: a project file (top-level keys and sections, booleans as COLMAP
+// writes them), which the command line overrides, and the log options.
+TEST(Cli, ProjectFileAndGeneralOptionsLikeColmap) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp / "ws", 48, 36, 2);
+  {
+    std::ofstream ini(tmp / "project.ini");
+    ini << "# written by hand\nworkspace_path = " << (tmp / "ws") << "\nlog_to_stderr = false\nrandom_seed = 0\n"
+        << "[PatchMatchStereo]\nmax_image_size = 40\ngeom_consistency = no\nwindow_radius = 5\n";
+  }
+  const int code = test::RunCommand("'" + test::ColmapMpExecutable() + "' mp_patch_match_stereo --project_path " +
+                                        (tmp / "project.ini") +
+                                        " --PatchMatchStereo.max_image_size 32 --log_to_stderr 1 2>'" +
+                                        (tmp / "stderr") + "' >'" + (tmp / "stdout") + "'",
+                                    "");
+  ASSERT_EQ(code, 0) << test::ReadTextFile(tmp / "stderr");
+  EXPECT_EQ(test::ReadTextFile(tmp / "stdout"), "");  // every line went to stderr
+  EXPECT_NE(test::ReadTextFile(tmp / "stderr").find("mp_patch_match_stereo finished"), std::string::npos);
+  // The command line's max_image_size (32 x 24), the file's geom_consistency (photometric only).
+  EXPECT_EQ(ReadFloatMap(tmp / "ws/stereo/depth_maps/view_00.png.photometric.bin", 1).width, 32);
+  EXPECT_FALSE(fs::exists(tmp / "ws/stereo/depth_maps/view_00.png.geometric.bin"));
+
+  CliRun r = ColmapMp("mp_patch_match_stereo --project_path " + (tmp / "project.ini") + " --log_level 0 "
+                      "--MPMVS.overwrite 1",
+                      tmp / "log2");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("window_radius is accepted for COLMAP compatibility but ignored"), std::string::npos);
+  EXPECT_EQ(r.output.find("stage photometric: 1/"), std::string::npos) << r.output;  // no progress lines at 0
+
+  { std::ofstream(tmp / "bad.ini") << "workspace_path = " << (tmp / "ws") << "\n[PatchMatchStereo]\nbogus = 1\n"; }
+  r = ColmapMp("mp_patch_match_stereo --project_path " + (tmp / "bad.ini"), tmp / "log3");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("unknown option --PatchMatchStereo.bogus in " + (tmp / "bad.ini")), std::string::npos)
+      << r.output;
+  r = ColmapMp("mp_patch_match_stereo --project_path " + (tmp / "missing.ini"), tmp / "log4");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("cannot read the project file " + (tmp / "missing.ini")), std::string::npos) << r.output;
 }
 
 TEST(Cli, FailedRunLeavesEarlierOutputsUntouched) {

@@ -1,11 +1,13 @@
 // OptionParser: the COLMAP-style "--Section.name value" options of every colmap-mp command.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "colmap_ext/cli/option_parser.h"
 #include "colmap_ext/util/error.h"
+#include "tests/test_util.h"
 
 namespace mpmvs {
 namespace {
@@ -76,19 +78,22 @@ TEST(OptionParser, KeepsDefaultsOfOptionsNotGiven) {
 
 TEST(OptionParser, BooleansLikeColmap) {
   for (const auto& [text, expected] : std::vector<std::pair<std::string, bool>>{
-           {"1", true}, {"true", true}, {"TRUE", true}, {"True", true},
-           {"0", false}, {"false", false}, {"FaLsE", false}}) {
+           {"1", true}, {"true", true}, {"TRUE", true}, {"True", true}, {"yes", true}, {"On", true},
+           {"0", false}, {"false", false}, {"FaLsE", false}, {"no", false}, {"OFF", false}}) {
     bool value = !expected;
     EXPECT_TRUE(ParseBool(text, &value)) << text;
     EXPECT_EQ(value, expected) << text;
   }
-  for (const char* text : {"", "yes", "no", "on", "2", "-1", "truee"}) {
+  for (const char* text : {"", "y", "n", "of", "2", "-1", "truee"}) {
     bool value = true;
     EXPECT_FALSE(ParseBool(text, &value)) << text;
     EXPECT_TRUE(value) << text;
   }
-  EXPECT_EQ(ParseError({"--path", "p", "--Section.flag", "yes"}),
-            "bad value 'yes' for option --Section.flag");
+  EXPECT_EQ(ParseError({"--path", "p", "--Section.flag", "y"}), "bad value 'y' for option --Section.flag");
+  Fields f;
+  OptionParser parser = MakeParser(&f);
+  ASSERT_TRUE(parser.Parse({"--path", "p", "--Section.flag", "off"}));
+  EXPECT_FALSE(f.flag);
 }
 
 TEST(OptionParser, BadNumbersNameTheOption) {
@@ -172,6 +177,54 @@ TEST(OptionParser, RepeatedOptionWarnsAndTakesTheLastValue) {
   // Every value is still checked.
   EXPECT_EQ(ParseError({"--path", "p", "--Section.count", "x", "--Section.count", "4"}),
             "bad value 'x' for option --Section.count");
+}
+
+// COLMAP's --project_path: INI keys at the top level and under [Section]; the command line
+// overrides the file; the file's mistakes name the file.
+TEST(OptionParser, ProjectFileIsReadFirstAndTheCommandLineOverridesIt) {
+  test::TempDir tmp;
+  {
+    std::ofstream ini(tmp / "p.ini");
+    ini << "# a comment\npath = /from/file\nname = file name\n\n[Section]\nflag = false\ncount = 9\n"
+           "scale = 2.5\nwindow_radius = 3\n";
+  }
+  Fields f;
+  std::string project;
+  OptionParser parser = MakeParser(&f);
+  parser.AddProjectFile("project_path", &project);
+  ASSERT_TRUE(parser.Parse({"--Section.count", "4", "--project_path", tmp / "p.ini"}));
+  EXPECT_EQ(f.path, "/from/file");  // the required option, from the file
+  EXPECT_EQ(f.name, "file name");
+  EXPECT_FALSE(f.flag);
+  EXPECT_EQ(f.count, 4);  // the command line wins, wherever it stands
+  EXPECT_EQ(f.scale, 2.5);
+  EXPECT_TRUE(parser.Given("Section.scale"));
+  ASSERT_EQ(parser.Warnings().size(), 1u);  // the ignored option, once; no "given twice"
+  EXPECT_NE(parser.Warnings()[0].find("--Section.window_radius is accepted"), std::string::npos);
+
+  const auto error = [&](const std::string& text) {
+    { std::ofstream(tmp / "bad.ini") << text; }
+    Fields g;
+    OptionParser p = MakeParser(&g);
+    p.AddProjectFile("project_path", &project);
+    try {
+      p.Parse({"--project_path", tmp / "bad.ini"});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("path = p\n[Section]\ncount = x\n"), "bad value 'x' for option --Section.count in " + (tmp / "bad.ini"));
+  EXPECT_EQ(error("path = p\n[Other]\ncount = 1\n").rfind("unknown option --Other.count in " + (tmp / "bad.ini") +
+                                                         ". Valid options:", 0),
+            0u);
+  EXPECT_EQ(error("path = p\nproject_path = q.ini\n").rfind("unknown option --project_path in ", 0), 0u);
+  EXPECT_EQ(error("[Section]\ncount = 1\n"), "missing required option --path");
+  EXPECT_NE(error("path = p\nnot an option line\n").find(tmp / "bad.ini"), std::string::npos);
+  Fields h;
+  OptionParser p = MakeParser(&h);
+  p.AddProjectFile("project_path", &project);
+  EXPECT_THROW(p.Parse({"--project_path", tmp / "none.ini"}), Error);
 }
 
 TEST(OptionParser, HelpListsNameDefaultAndHelp) {
