@@ -254,5 +254,24 @@ size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_
   });
 }
 
+void MarkConfirmingViewsCpu(const PatchMatchProblem& problem, float max_relative_error, int num_threads,
+                            PatchMatchResult* result) {
+  const std::vector<SourceView> sources = MakeSourceViews(problem);
+  PatchMatchSchedule schedule;
+  schedule.geometric = true;
+  const PassParams params = MakePassParams(problem, schedule, sources.data());
+  PixelState state;
+  state.plane = result->plane.data();
+  state.photo_cost = result->photo_cost.data();
+  const int W = result->width;
+  std::vector<uint32_t>& views = result->view_mask;
+  views.assign(static_cast<size_t>(W) * result->height, 0u);
+  ParallelRows(result->height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
+    for (int u = 0; u < W; ++u) {
+      views[static_cast<size_t>(v) * W + u] = PixelConfirmingViews(params, state, u, v, max_relative_error);
+    }
+  });
+}
+
 }  // namespace kernels
 }  // namespace mpmvs

@@ -48,26 +48,51 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
   return consistent >= MinI(filter.min_num_consistent, params.num_sources);
 }
 
-// Whether at least min_views sources' depth maps confirm the pixel's depth: its point, seen
-// from a source, lies within max_relative_error of the depth the source holds at the nearest
+// Whether a source's depth map confirms the point X_ref (reference frame): seen from the
+// source, it lies within max_relative_error of the depth the source holds at the nearest
 // pixel (the depth test of COLMAP's stereo_fusion). A source that is occluded there, has no
 // depth there or does not see the point does not confirm it.
-MPMVS_HD inline bool PixelDepthConfirmed(const PassParams& params, const PixelState& state, int u, int v,
-                                         int min_views, float max_relative_error) {
+MPMVS_HD inline bool SourceConfirmsDepth(const SourceView& src, Vec3 X_ref, float max_relative_error) {
+  if (!src.depth) return false;
+  Vec3 X;
+  float us, vs;
+  const float d = SourceDepthAtPoint(src, X_ref, &X, &us, &vs);
+  return d > 0.f && fabsf(d - X.z) < max_relative_error * X.z;
+}
+
+// The pixel's point (depth * ray) when it has a valid depth in range, else false.
+MPMVS_HD inline bool PixelPoint(const PassParams& params, const PixelState& state, int u, int v, Vec3* X) {
   const int idx = v * params.ref_camera.width + u;
   const Vec3 ray = PixelRay(params.ref_camera, static_cast<float>(u), static_cast<float>(v));
   const float depth = PlaneDepth(LoadPlane(state.plane, idx), ray);
   if (!(state.photo_cost[idx] < kInvalidCost) || !DepthInRange(params, depth)) return false;
+  *X = depth * ray;
+  return true;
+}
+
+// Whether at least min_views sources' depth maps confirm the pixel's depth.
+MPMVS_HD inline bool PixelDepthConfirmed(const PassParams& params, const PixelState& state, int u, int v,
+                                         int min_views, float max_relative_error) {
+  Vec3 X;
+  if (!PixelPoint(params, state, u, v, &X)) return false;
   int confirmed = 0;
   for (int s = 0; s < params.num_sources && confirmed < min_views; ++s) {
-    const SourceView& src = params.sources[s];
-    if (!src.depth) continue;
-    Vec3 X;
-    float us, vs;
-    const float d = SourceDepthAtPoint(src, depth * ray, &X, &us, &vs);
-    if (d > 0.f && fabsf(d - X.z) < max_relative_error * X.z) ++confirmed;
+    if (SourceConfirmsDepth(params.sources[s], X, max_relative_error)) ++confirmed;
   }
   return confirmed >= min_views;
+}
+
+// Bit s set for each source s whose depth map confirms the pixel's depth (as above); 0
+// for a pixel without a valid depth.
+MPMVS_HD inline uint32_t PixelConfirmingViews(const PassParams& params, const PixelState& state, int u, int v,
+                                              float max_relative_error) {
+  Vec3 X;
+  if (!PixelPoint(params, state, u, v, &X)) return 0u;
+  uint32_t views = 0u;
+  for (int s = 0; s < params.num_sources; ++s) {
+    if (SourceConfirmsDepth(params.sources[s], X, max_relative_error)) views |= 1u << s;
+  }
+  return views;
 }
 
 }  // namespace kernels

@@ -149,6 +149,11 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
 size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
                                       int num_threads, PatchMatchResult* result);
 
+// Sets result->view_mask, per pixel, to the sources (bit s: problem.sources[s]) whose depth
+// maps confirm its depth within max_relative_error (PixelConfirmingViews); 0 without one.
+void MarkConfirmingViewsCpu(const PatchMatchProblem& problem, float max_relative_error, int num_threads,
+                            PatchMatchResult* result);
+
 // 1 where the reference image's window of `window` around the pixel is plain (PlainWindow),
 // W*H entries (host, all cores).
 std::vector<uint8_t> PlainWindowMaskCpu(const ImageView& ref, const WindowSpec& window,

@@ -15,4 +15,9 @@ DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float 
   return counts;
 }
 
+void MarkConfirmingViews(const kernels::PatchMatchProblem& problem, int num_threads,
+                         kernels::PatchMatchResult* result) {
+  kernels::MarkConfirmingViewsCpu(problem, kDepthCheckMaxRelativeError, num_threads, result);
+}
+
 }  // namespace mpmvs

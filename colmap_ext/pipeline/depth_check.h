@@ -25,4 +25,9 @@ struct DepthCheckCounts {
 DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_error_clamp, int min_views,
                                int num_threads, kernels::PatchMatchResult* result);
 
+// The geometric consistency graph of the check's maps (write_consistency_graph): sets
+// result->view_mask to the sources whose results confirm each remaining pixel's depth.
+void MarkConfirmingViews(const kernels::PatchMatchProblem& problem, int num_threads,
+                         kernels::PatchMatchResult* result);
+
 }  // namespace mpmvs

@@ -225,6 +225,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
                 std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
+        // The state keeps no view selection: the graph is made here, where the sources' results are.
+        if (plan_.write_consistency_graph && ref->write_final) MarkConfirmingViews(ref->pm, plan_.num_threads, &result);
       } else {
         backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); });
       }

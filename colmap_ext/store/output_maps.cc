@@ -11,9 +11,10 @@
 namespace mpmvs {
 namespace {
 
-// COLMAP's consistency graph: per pixel with a depth, the sources its view selection used.
-ConsistencyGraph MakeConsistencyGraph(const ReferenceProblem& problem, const kernels::PatchMatchResult& result,
-                                      const FloatMap& depth_map) {
+// COLMAP's consistency graph: per pixel with a depth, the sources of its view_mask (the views
+// its view selection used or, after the depth check, those that confirm its depth).
+ConsistencyGraph MakeConsistencyGraph(const kernels::PatchMatchProblem& problem,
+                                      const kernels::PatchMatchResult& result, const FloatMap& depth_map) {
   ConsistencyGraph graph;
   graph.width = result.width;
   graph.height = result.height;
@@ -26,9 +27,10 @@ ConsistencyGraph MakeConsistencyGraph(const ReferenceProblem& problem, const ker
       graph.data.push_back(v);
       const size_t count_pos = graph.data.size();
       graph.data.push_back(0);
-      for (size_t s = 0; s < problem.src.size(); ++s) {
+      // Mask bits index the sources the stage ran with, which leave out those without results.
+      for (size_t s = 0; s < problem.sources.size(); ++s) {
         if (mask >> s & 1u) {
-          graph.data.push_back(problem.src[s]);
+          graph.data.push_back(static_cast<int>(problem.sources[s].image_id));
           ++graph.data[count_pos];
         }
       }
@@ -55,7 +57,7 @@ void WriteFinalMaps(WorkspaceIo* io, const DenseWorkspace& workspace, const Refe
   io->WriteDepthMap(workspace.DepthMapPath(problem.ref, type), depth_map, problem.depth_min, problem.depth_max);
   if (write_consistency_graph) {
     io->WriteConsistencyGraph(workspace.ConsistencyGraphPath(problem.ref, type),
-                              MakeConsistencyGraph(problem, result, depth_map));
+                              MakeConsistencyGraph(pm_problem, result, depth_map));
   }
   if (write_pictures) {
     const std::string& name = workspace.views[problem.ref].name;

@@ -153,7 +153,11 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   problem.depth_min = p.depth_min;
   problem.depth_max = p.depth_max;
 
-  const bool have_state = !plan.overwrite && store->HasState(p.ref, stage.name);
+  // A state keeps no view selection, which a consistency graph lists: a stage that writes maps
+  // with one is computed again (the same result) rather than resumed.
+  const bool writes_graph = ref->write_final && plan.write_consistency_graph &&
+                            (writes_geometric || (writes_photometric && !store->FinalOutputsExist(p.ref, "photometric")));
+  const bool have_state = !plan.overwrite && !writes_graph && store->HasState(p.ref, stage.name);
   ref->filter_here = ref->write_final && plan.filter &&
                      (writes_geometric || (writes_photometric && plan.pipeline.geometric_output < 0));
   // Images and source depth maps: needed to compute the stage, and by the output filter.

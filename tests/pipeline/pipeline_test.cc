@@ -150,6 +150,53 @@ TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
   EXPECT_EQ(ReadFloatMap(depth_path, 1).data, before.data);
 }
 
+// write_consistency_graph: every pixel with a depth has a record naming source views (the
+// geometric graph: those whose results confirm its depth, so at least depth_check_views),
+// also when the maps are written again from the states of a finished run.
+TEST(Pipeline, ConsistencyGraphsListTheViewsOfEveryWrittenDepth) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
+  MpPatchMatchRun run;
+  run.workspace_path = tmp.path();
+  run.colmap_options.write_consistency_graph = true;
+  RunMpPatchMatchStereo(run);
+  const DenseWorkspace ws = LoadDenseWorkspace(tmp.path(), -1);
+  std::map<std::string, std::string> graphs;
+  for (const char* type : {"photometric", "geometric"}) {
+    for (int view = 0; view < 3; ++view) {
+      const FloatMap depth = ReadFloatMap(ws.DepthMapPath(view, type), 1);
+      const ConsistencyGraph graph = ReadConsistencyGraph(ws.ConsistencyGraphPath(view, type));
+      std::vector<int> entries(depth.data.size(), 0);  // source views listed per pixel
+      for (size_t k = 0; k < graph.data.size(); k += 3 + graph.data[k + 2]) {
+        const int col = graph.data[k], row = graph.data[k + 1], n = graph.data[k + 2];
+        for (int j = 0; j < n; ++j) {
+          const int src = graph.data[k + 3 + j];
+          EXPECT_TRUE(src >= 0 && src < 3 && src != view) << type << " " << view << ": " << src;
+        }
+        entries[static_cast<size_t>(row) * depth.width + col] = n;
+      }
+      size_t with_depth = 0, listed = 0;
+      for (size_t i = 0; i < entries.size(); ++i) {
+        with_depth += depth.data[i] > 0;
+        listed += depth.data[i] > 0 && entries[i] > 0;
+        EXPECT_FALSE(entries[i] > 0 && !(depth.data[i] > 0)) << "a record without a depth";
+      }
+      ASSERT_GT(with_depth, entries.size() / 2) << type << " " << view;
+      if (std::string(type) == "geometric") {
+        EXPECT_EQ(listed, with_depth) << view;  // the depth check keeps only confirmed depths
+      } else {
+        EXPECT_GT(listed, with_depth * 9 / 10) << view;
+      }
+      graphs[ws.ConsistencyGraphPath(view, type)] = test::ReadTextFile(ws.ConsistencyGraphPath(view, type));
+    }
+  }
+  // Maps written again from the states: the same graphs.
+  for (const auto& entry : fs::directory_iterator(tmp.path() + "/stereo/depth_maps")) fs::remove(entry.path());
+  for (const auto& entry : fs::directory_iterator(tmp.path() + "/stereo/consistency_graphs")) fs::remove(entry.path());
+  RunMpPatchMatchStereo(run);
+  for (const auto& [path, bytes] : graphs) EXPECT_EQ(test::ReadTextFile(path), bytes) << path;
+}
+
 TEST(Pipeline, ImageWithoutSourcesIsSkippedAndCounted) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
