@@ -111,6 +111,15 @@ struct DeviceLaunch {
 
 }  // namespace
 
+int CudaDeviceCount() {
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess) {
+    cudaGetLastError();  // no driver or no device: clear it so later CUDA calls start clean
+    return 0;
+  }
+  return count;
+}
+
 bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   auto fail = [&](const std::string& reason) {
     cudaGetLastError();  // clear a non-sticky error so later CUDA calls start clean

@@ -15,6 +15,8 @@ namespace {
 }
 }  // namespace
 
+int CudaDeviceCount() { return 0; }
+
 bool CudaDeviceAvailable(int, std::string* why) {
   if (why) {
     *why = "this build of mp-mvs has no CUDA backend (nvcc not found at build time or "

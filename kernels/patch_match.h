@@ -130,6 +130,8 @@ float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float
                         const WindowSpec& window);
 const char* CpuBackendNccName();
 
+// How many CUDA devices the driver reports; 0 without a driver, a device or CUDA in the build.
+int CudaDeviceCount();
 // Whether a CUDA device can be used (false with the reason in *why when the build has no
 // CUDA or no device/driver is present: any CUDA error counts as "no device").
 bool CudaDeviceAvailable(int gpu_index, std::string* why);

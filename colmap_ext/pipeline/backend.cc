@@ -24,8 +24,18 @@ Backend::Backend(const BackendOptions& options) : options_(options) {
                             ? options.num_threads
                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     name_ = "CPU (" + std::to_string(threads) + " threads)";
-    LogInfo("No usable CUDA device (" + why + "): using the CPU backend, " + std::to_string(threads) +
-            " threads");
+    // No GPU is the usual case, not a fault: one calm line. A device that is there but cannot
+    // run the kernels is worth a warning with the reason.
+    const std::string cpu = "running on the CPU with " + std::to_string(threads) + " threads";
+#ifdef MPMVS_WITH_CUDA
+    if (kernels::CudaDeviceCount() == 0) {
+      LogInfo("No CUDA device; " + cpu);
+    } else {
+      LogWarning("CUDA device " + std::to_string(device) + " cannot be used (" + why + "); " + cpu);
+    }
+#else
+    LogInfo("This build has no CUDA backend; " + cpu);
+#endif
   }
 }
 

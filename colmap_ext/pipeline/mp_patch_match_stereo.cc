@@ -152,6 +152,14 @@ void Controller::Start(MpPatchMatchSummary* summary) {
   for (const StagePlan& st : plan_.pipeline.stages) stage_names += (stage_names.empty() ? "" : " -> ") + st.name;
   LogInfo("Backend: " + backend_->Name() + "; " + std::to_string(mine_.size()) +
           " reference images; stages: " + stage_names);
+  // Which views each reference matches against, once per image (as COLMAP's log says it).
+  for (size_t i : mine_) {
+    const ReferenceProblem& p = problems_[i];
+    std::string sources;
+    for (int src : p.src) sources += " " + workspace_.views[src].name;
+    LogDetail(workspace_.views[p.ref].name + ": " + std::to_string(p.src.size()) + " source image" +
+              (p.src.size() == 1 ? "" : "s") + ":" + sources);
+  }
 }
 
 bool Controller::AllFinalMapsExist() const {
@@ -221,7 +229,7 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
         const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_error_clamp,
                                                        stage.confirming_views, plan_.num_threads, &result);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
-        LogInfo(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
+        LogDetail(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
                 std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
@@ -250,7 +258,7 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
   if (ref.filter_here && !ref.pm.sources.empty()) {
     const size_t removed =
         kernels::FilterResultCpu(ref.pm, stage.schedule.geometric, plan_.filter_params, plan_.num_threads, result);
-    LogInfo(workspace_.views[p.ref].name + ": filter removed " + std::to_string(removed) + " pixels");
+    LogDetail(workspace_.views[p.ref].name + ": filter removed " + std::to_string(removed) + " pixels");
   }
   if (stage_index == plan_.pipeline.photometric_output &&
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {

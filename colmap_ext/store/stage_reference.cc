@@ -123,7 +123,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
-  LogInfo(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
+  LogDetail(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
           " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image), " +
           std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
           std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +

@@ -109,6 +109,11 @@ TEST(Cli, PatchMatchStereoUnderColmapsNameRunsMpMvs) {
   EXPECT_NE(r.output.find("colmap-mp patch_match_stereo runs MP-MVS (mp_patch_match_stereo); COLMAP's own is `"),
             std::string::npos)
       << r.output;
+  // Each reference's sources, once (log_level 2, the default).
+  const size_t sources = r.output.find("view_00.png: 1 source image: view_01.png\n");
+  EXPECT_NE(sources, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("view_00.png: 1 source image", sources + 1), std::string::npos);
+  EXPECT_NE(r.output.find("view_01.png: 1 source image: view_00.png\n"), std::string::npos);
   for (const char* map : {"depth_maps/view_00.png.geometric.bin", "normal_maps/view_01.png.geometric.bin"}) {
     EXPECT_TRUE(fs::exists(tmp / (std::string("stereo/") + map))) << map;
   }
@@ -144,6 +149,7 @@ TEST(Cli, ProjectFileAndGeneralOptionsLikeColmap) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("window_radius is accepted for COLMAP compatibility but ignored"), std::string::npos);
   EXPECT_EQ(r.output.find("stage photometric: 1/"), std::string::npos) << r.output;  // no progress lines at 0
+  EXPECT_EQ(r.output.find("1 source image:"), std::string::npos) << r.output;
 
   { std::ofstream(tmp / "bad.ini") << "workspace_path = " << (tmp / "ws") << "\n[PatchMatchStereo]\nbogus = 1\n"; }
   r = ColmapMp("mp_patch_match_stereo --project_path " + (tmp / "bad.ini"), tmp / "log3");
