@@ -34,6 +34,7 @@ int RunDemoCommand(const std::vector<std::string>& args) {
   parser.Add("num_views", &scene.num_views);
   parser.Add("seed", &scene.seed);
   parser.Add("overwrite", &overwrite, "delete an earlier demo in output_path and start over");
+  run.options.write_pictures = "all";  // the demo shows every stage and planar prior
   AddPatchMatchOptions(&parser, &run.colmap_options, &run.options);
   if (!parser.Parse(args)) {
     std::cout << "Usage: colmap-mp demo [--output_path mpmvs_demo] [options]\n\n"

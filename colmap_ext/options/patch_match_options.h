@@ -134,7 +134,9 @@ namespace mpmvs {
     "propagated candidates are costed in at most this many source views: those the pixel and its neighbours "          \
     "selected last, one more explored in turn; 0 = every source view (paper)")                                         \
   X(bool, overwrite, false, false, false, OptionRange::Any(), kRun, "recompute outputs that already exist")            \
-  X(bool, write_pictures, true, true, true, OptionRange::Any(), kRun, "depth/normal PNGs in stereo/mpmvs/pictures")    \
+  X(std::string, write_pictures, "final", "final", "final", OptionRange::OneOf("final|all|none"), kRun,              \
+    "PNGs in stereo/mpmvs/pictures: final = the depth and normal maps fusion reads, all = also every stage's depth " \
+    "map, the photometric maps and the planar priors, none")                                                          \
   X(std::string, shard, "", "", "", OptionRange::Any(), kRun,                                                          \
     "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process")          \
   X(std::string, image_list_path, "", "", "", OptionRange::Any(), kRun,                                                \

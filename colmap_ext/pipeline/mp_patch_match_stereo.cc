@@ -179,7 +179,7 @@ void Controller::CreateOutputDirectories() const {
                                     store_->StatePath(p.ref, "x")}) {
       CreateDirectories(ParentPath(file));
     }
-    if (plan_.write_pictures) {
+    if (plan_.final_pictures) {
       CreateDirectories(ParentPath(JoinPaths(workspace_.IntermediateDir(), "pictures/" + name)));
     }
   }
@@ -239,7 +239,7 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
         backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); });
       }
       store_->WriteState(p.ref, stage.name, result);
-      if (plan_.write_pictures) {
+      if (plan_.stage_pictures) {
         WriteStagePictures(workspace_, p, ref->pm.ref_camera, stage.name, result,
                            stage.kind == StageKind::kPlanarPrior ? &ref->prior : nullptr);
       }
@@ -263,13 +263,13 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
   if (stage_index == plan_.pipeline.photometric_output &&
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
-                   plan_.write_pictures);
+                   plan_.stage_pictures || (plan_.final_pictures && plan_.final_type == "photometric"));
     if (plan_.final_type == "photometric") written_.insert(p.ref);
   }
   if (stage_index == plan_.pipeline.geometric_output) {
     kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_error_clamp, result);
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
-                   plan_.write_pictures);
+                   plan_.final_pictures);
     written_.insert(p.ref);
   }
 }

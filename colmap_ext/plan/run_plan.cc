@@ -80,7 +80,8 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.chroma_guide_weight = static_cast<float>(options.chroma_weight);
   plan.sources_per_reference = options.max_source_images;
   plan.overwrite = options.overwrite;
-  plan.write_pictures = options.write_pictures;
+  plan.stage_pictures = options.write_pictures == "all";
+  plan.final_pictures = plan.stage_pictures || options.write_pictures == "final";
   plan.write_consistency_graph = colmap_options.write_consistency_graph;
   plan.shard = ParseShard(options.shard);
   if (!options.image_list_path.empty()) {

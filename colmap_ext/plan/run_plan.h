@@ -27,7 +27,8 @@ struct RunPlan {
   float chroma_guide_weight = 0;  // the colour guide of the NCC weights (0: none)
   int sources_per_reference = 0;
   bool overwrite = false;
-  bool write_pictures = false;
+  bool final_pictures = false;  // --MPMVS.write_pictures final or all: of the maps fusion reads
+  bool stage_pictures = false;  // --MPMVS.write_pictures all: of every stage and written map
   bool write_consistency_graph = false;
   // Which part of the work this process does (plan/shard.h, schedule/work_claims.h).
   ShardSpec shard;

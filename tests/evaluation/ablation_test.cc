@@ -17,7 +17,7 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   options.gt_path = tmp / "scene/gt";
   options.output_path = tmp / "rows";
   options.fuse = false;
-  options.options.write_pictures = false;
+  options.options.write_pictures = "none";
   const std::vector<AblationRowResult> rows = RunAblation(options);
   ASSERT_EQ(rows.size(), 6u);
 

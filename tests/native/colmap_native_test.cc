@@ -104,13 +104,13 @@ TEST(ColmapNative, MapsAreByteEqualToColmapMp) {
   fs::copy(tmp / "ours", tmp / "colmap", fs::copy_options::recursive);
   MpPatchMatchRun run;
   run.colmap_options.write_consistency_graph = true;
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   run.workspace_path = tmp / "ours";
   const MpPatchMatchSummary sa = RunMpPatchMatchStereo(run);
   // The native command as COLMAP's command table calls it (argv[0] = program).
   std::vector<std::string> args = {"colmap", "--workspace_path", tmp / "colmap",
                                    "--PatchMatchStereo.write_consistency_graph", "1",
-                                   "--MPMVS.write_pictures", "0"};
+                                   "--MPMVS.write_pictures", "none"};
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
   ASSERT_EQ(RunColmapMpPatchMatchStereo(static_cast<int>(argv.size()), argv.data()), EXIT_SUCCESS);

@@ -170,7 +170,7 @@ double DepthAccuracy(const std::string& dir, const SyntheticScene& scene, size_t
 MpPatchMatchSummary RunQuietly(const std::string& dir, std::string* log = nullptr) {
   MpPatchMatchRun run;
   run.workspace_path = dir;
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   run.colmap_options.num_threads = 2;
   testing::internal::CaptureStderr();
   const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
@@ -289,7 +289,7 @@ TEST(HostileGeometry, CamerasBehindBesideAndInsideTheSceneDoNotSpoilTheOthers) {
     }
     MpPatchMatchRun run;
     run.workspace_path = dir;
-    run.options.write_pictures = false;
+    run.options.write_pictures = "none";
     run.colmap_options.num_threads = 2;
     run.colmap_options.depth_min = 0.5;
     run.colmap_options.depth_max = 8;

@@ -237,7 +237,7 @@ void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
     }
     MpPatchMatchRun run;
     run.workspace_path = ws;
-    run.options.write_pictures = false;
+    run.options.write_pictures = "none";
     if (!mpmvs) {
       run.options.max_window_scale = 0;
       run.options.distant_sampling = false;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <string>
 
 #include "colmap_ext/io/dense_workspace.h"
@@ -116,7 +117,7 @@ TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
   test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
   MpPatchMatchRun run;
   run.workspace_path = tmp.path();
-  run.options.write_pictures = true;
+  run.options.write_pictures = "all";
   const MpPatchMatchSummary first = RunMpPatchMatchStereo(run);
   EXPECT_EQ(first.num_written, 3);
   const std::string depth_path = tmp.path() + "/stereo/depth_maps/view_00.png.geometric.bin";
@@ -197,6 +198,35 @@ TEST(Pipeline, ConsistencyGraphsListTheViewsOfEveryWrittenDepth) {
   for (const auto& [path, bytes] : graphs) EXPECT_EQ(test::ReadTextFile(path), bytes) << path;
 }
 
+// The pictures a user looks at by default: the depth and normal maps fusion reads; every
+// stage's with "all", none with "none".
+TEST(Pipeline, PicturesOfTheFinalMapsByDefaultAllStagesOrNone) {
+  const auto pictures = [](const std::string& write_pictures) {
+    test::TempDir tmp;
+    test::WriteSmallPlaneScene(tmp.path(), 48, 36, 2);
+    MpPatchMatchRun run;
+    run.workspace_path = tmp.path();
+    if (!write_pictures.empty()) run.options.write_pictures = write_pictures;
+    RunMpPatchMatchStereo(run);
+    std::set<std::string> names;
+    const std::string dir = tmp.path() + "/stereo/mpmvs/pictures";
+    if (fs::exists(dir)) {
+      for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+    }
+    return names;
+  };
+  EXPECT_EQ(pictures(""), (std::set<std::string>{"view_00.png.geometric.depth.png", "view_00.png.geometric.normal.png",
+                                                 "view_01.png.geometric.depth.png", "view_01.png.geometric.normal.png"}));
+  const std::set<std::string> all = pictures("all");
+  for (const char* name : {"view_00.png.geometric.depth.png", "view_00.png.photometric.normal.png",
+                           "view_01.png.geometric1.depth.png", "view_01.png.prior.prior_model.png",
+                           "view_01.png.depth_check.depth.png"}) {
+    EXPECT_TRUE(all.count(name)) << name;
+  }
+  EXPECT_EQ(all.size(), 2u * 14);
+  EXPECT_TRUE(pictures("none").empty());
+}
+
 TEST(Pipeline, ImageWithoutSourcesIsSkippedAndCounted) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
@@ -244,7 +274,7 @@ TEST(Pipeline, ColmapStyleFilterKeepsASubsetOfPixels) {
   test::WriteSmallPlaneScene(tmp / "a", 96, 72, 3);
   test::WriteSmallPlaneScene(tmp / "b", 96, 72, 3);
   MpPatchMatchRun run;
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   run.workspace_path = tmp / "a";
   RunMpPatchMatchStereo(run);
   run.workspace_path = tmp / "b";
@@ -288,7 +318,7 @@ TEST(Pipeline, IndoorGeometricBeatsPhotometricAndHoldsItsWalls) {
   GenerateSyntheticScene(scene, tmp.path());
   MpPatchMatchRun run;
   run.workspace_path = tmp.path();
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   RunMpPatchMatchStereo(run);
   EvaluationOptions eval;
   eval.input_type = "photometric";
@@ -318,7 +348,7 @@ TEST(Pipeline, PlainWallInsideATexturedFrameFollowsThePlane) {
   const SyntheticScene generated = GenerateSyntheticScene(scene, tmp.path());
   MpPatchMatchRun run;
   run.workspace_path = tmp.path();
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   RunMpPatchMatchStereo(run);
   const std::vector<GtView> views = LoadGtViews(ReadSparseModel(tmp / "sparse"), tmp / "gt");
   ASSERT_EQ(views.size(), 5u);
@@ -389,7 +419,7 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   test::TempDir tmp;
   for (const char* name : {"plain", "ahead"}) test::WriteSmallPlaneScene(tmp / name, 80, 60, 4);
   MpPatchMatchRun run;
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   std::string last_stage;
   for (const char* name : {"plain", "ahead"}) {
     run.workspace_path = tmp / name;

@@ -98,7 +98,7 @@ TEST(Shard, AnySplitGivesTheMapsOfOneProcess) {
             0);
   auto run = [&](const std::string& ws, const std::string& extra, const std::string& log) {
     return test::RunCommand(exe + " mp_patch_match_stereo --workspace_path " + ws +
-                                " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures 0 " + extra,
+                                " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures none " + extra,
                             log);
   };
   test::RunCommand("cp -r " + tmp / "base" + " " + tmp / "one" + " && cp -r " + tmp / "base" + " " + tmp / "split" +
@@ -122,9 +122,9 @@ TEST(Shard, AnySplitGivesTheMapsOfOneProcess) {
 
   // Two shards of whole runs at once: each waits for the other's inputs.
   ASSERT_EQ(test::RunCommand("(" + exe + " mp_patch_match_stereo --workspace_path " + tmp / "together" +
-                                 " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures 0 --MPMVS.shard 0/2 & " +
+                                 " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures none --MPMVS.shard 0/2 & " +
                                  exe + " mp_patch_match_stereo --workspace_path " + tmp / "together" +
-                                 " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures 0 --MPMVS.shard 1/2;"
+                                 " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures none --MPMVS.shard 1/2;"
                                  " r=$?; wait $! && exit $r)",
                              tmp / "together.log"),
             0);

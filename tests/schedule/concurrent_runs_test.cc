@@ -21,7 +21,7 @@ std::string Exe() { return "'" + test::ColmapMpExecutable() + "'"; }
 
 std::string RunCommandLine(const std::string& ws) {
   return Exe() + " mp_patch_match_stereo --workspace_path " + ws +
-         " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures 0";
+         " --PatchMatchStereo.num_threads 1 --MPMVS.write_pictures none";
 }
 
 // sha256 of every depth and normal map of the workspace, one line per file.

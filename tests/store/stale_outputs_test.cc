@@ -48,7 +48,7 @@ bool Contains(const std::string& text, const std::string& part) { return text.fi
 MpPatchMatchRun SmallRun(const std::string& dir) {
   MpPatchMatchRun run;
   run.workspace_path = dir;
-  run.options.write_pictures = false;
+  run.options.write_pictures = "none";
   run.options.max_window_scale = 1;
   run.options.iterations_per_scale = 2;
   run.options.geom_iterations = 1;
