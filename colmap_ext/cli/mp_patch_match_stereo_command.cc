@@ -52,6 +52,13 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
                 s.num_references, s.num_written, s.num_already_done, s.num_skipped_no_sources,
                 s.num_skipped_no_depth_range, s.num_skipped_missing_files, s.backend.empty() ? "-" : s.backend.c_str());
   LogInfo(line);
+  if (s.intermediate_peak_bytes > 0) {
+    std::snprintf(line, sizeof(line), "stereo/mpmvs: peak %.1f MB, now %.1f MB (%s)", s.intermediate_peak_bytes / 1e6,
+                  s.intermediate_final_bytes / 1e6,
+                  run.options.keep_states ? "--MPMVS.keep_states 1 keeps every stage's state"
+                                          : "a stage's state goes once no stage reads it; --MPMVS.keep_states 1 keeps all");
+    LogInfo(line);
+  }
   return 0;
 }
 

@@ -137,6 +137,9 @@ namespace mpmvs {
   X(std::string, write_pictures, "final", "final", "final", OptionRange::OneOf("final|all|none"), kRun,              \
     "PNGs in stereo/mpmvs/pictures: final = the depth and normal maps fusion reads, all = also every stage's depth " \
     "map, the photometric maps and the planar priors, none")                                                          \
+  X(bool, keep_states, false, false, false, OptionRange::Any(), kRun,                                                 \
+    "keep every stage's state in stereo/mpmvs; 0 = remove each once every stage that reads it has its results and " \
+    "its maps are written (resuming and shards are unaffected)")                                                      \
   X(std::string, shard, "", "", "", OptionRange::Any(), kRun,                                                          \
     "i/n: run shard i of n of the reference images (balanced by pixels x sources); same maps as one process")          \
   X(std::string, image_list_path, "", "", "", OptionRange::Any(), kRun,                                                \

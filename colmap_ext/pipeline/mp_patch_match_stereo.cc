@@ -52,6 +52,8 @@ class Controller {
   // Whether every reference of this process already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
   void CreateOutputDirectories() const;
+  // Bytes in stereo/mpmvs (states, pictures, claims).
+  uint64_t IntermediateBytes() const { return DirectoryBytes(workspace_.IntermediateDir()); }
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   // Runs or resumes a prepared image, writes its state and maps, releases its claim.
   void RunReference(int stage_index, std::unique_ptr<StageReference> ref, StageSummary* summary,
@@ -81,6 +83,7 @@ MpPatchMatchSummary Controller::Run() {
     }
     backend_->LogCacheStats();
     summary.num_written = static_cast<int>(written_.size());
+    summary.intermediate_final_bytes = IntermediateBytes();
   }
   summary.seconds = SecondsSince(start);
   return summary;
@@ -200,6 +203,9 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
   }
   stage_summary.seconds = SecondsSince(start);
   summary->stages.push_back(stage_summary);
+  // The most stereo/mpmvs holds is just before the states this stage made unneeded go.
+  summary->intermediate_peak_bytes = std::max(summary->intermediate_peak_bytes, IntermediateBytes());
+  if (!plan_.keep_states) scheduler_->RemoveUnneededStates();
 }
 
 void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> ref, StageSummary* summary,
@@ -213,6 +219,11 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
       ++summary->images_resumed;
       progress->Step(name + " (final maps exist, skipped)");
       scheduler_->Release(*ref);  // no-op unless its state was needed
+      return;
+    case StageReference::Action::kNotNeeded:
+      ++summary->images_resumed;
+      progress->Step(name + " (its later stages are done, skipped)");
+      scheduler_->Release(*ref);
       return;
     case StageReference::Action::kNoSources:
       LogWarning(name + ": no usable source views in stage " + stage.name + "; skipped");
@@ -264,7 +275,10 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {
     WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
                    plan_.stage_pictures || (plan_.final_pictures && plan_.final_type == "photometric"));
-    if (plan_.final_type == "photometric") written_.insert(p.ref);
+    // Counted once the reference has its final maps (they may be older than this run).
+    if (plan_.final_type == "photometric" || store_->FinalOutputsExist(p.ref, plan_.final_type)) {
+      written_.insert(p.ref);
+    }
   }
   if (stage_index == plan_.pipeline.geometric_output) {
     kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_error_clamp, result);

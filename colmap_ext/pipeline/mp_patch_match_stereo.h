@@ -38,6 +38,10 @@ struct MpPatchMatchSummary {
   int num_skipped_missing_files = 0;  // --PatchMatchStereo.allow_missing_files
   std::string backend;
   double seconds = 0;
+  // stereo/mpmvs: the most it held (after a stage, before the states that stage made unneeded
+  // were removed) and what it holds at the end.
+  uint64_t intermediate_peak_bytes = 0;
+  uint64_t intermediate_final_bytes = 0;
   std::vector<StageSummary> stages;
 };
 

@@ -5,6 +5,7 @@
 #include "colmap_ext/plan/run_plan.h"
 #include "colmap_ext/plan/shard.h"
 #include "colmap_ext/schedule/stage_inputs.h"
+#include "colmap_ext/schedule/stage_results.h"
 #include "colmap_ext/store/stage_store.h"
 #include "colmap_ext/store/state_record.h"
 
@@ -20,7 +21,7 @@ std::vector<StageStatus> ComputeWorkStatus(const MpPatchMatchRun& run, int shard
   const StageInputs inputs(plan, problems);
   std::vector<char> done;
   for (const ReferenceProblem& p : problems) done.push_back(!plan.overwrite && store.AllFinalOutputsExist(p.ref));
-  const std::vector<std::vector<char>> needed = NeededStageResults(plan, problems, done);
+  const std::vector<std::vector<char>> needed = NeededStageResults(plan, problems, inputs, &store);
   const std::vector<std::vector<size_t>> split = SplitIntoShards(workspace, problems, plan.image_names, shards);
 
   std::vector<StageStatus> status;

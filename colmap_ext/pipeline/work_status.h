@@ -17,8 +17,8 @@ struct StageStatus {
 
 // Loads the workspace and patch-match.cfg of run as mp_patch_match_stereo does and splits
 // the images into `shards` (shard.h). An image is finished in a stage when its result of
-// that stage exists (and the maps the stage writes), or when its final maps exist and no
-// other image needs that result (NeededStageResults).
+// that stage exists (and the maps the stage writes), or when no stage needs that result any
+// more (NeededStageResults: its final maps exist, or the later stages' results do).
 std::vector<StageStatus> ComputeWorkStatus(const MpPatchMatchRun& run, int shards);
 
 }  // namespace mpmvs

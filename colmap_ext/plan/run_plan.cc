@@ -83,6 +83,7 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.stage_pictures = options.write_pictures == "all";
   plan.final_pictures = plan.stage_pictures || options.write_pictures == "final";
   plan.write_consistency_graph = colmap_options.write_consistency_graph;
+  plan.keep_states = options.keep_states;
   plan.shard = ParseShard(options.shard);
   if (!options.image_list_path.empty()) {
     plan.image_names = ReadImageList(options.image_list_path);

@@ -30,6 +30,7 @@ struct RunPlan {
   bool final_pictures = false;  // --MPMVS.write_pictures final or all: of the maps fusion reads
   bool stage_pictures = false;  // --MPMVS.write_pictures all: of every stage and written map
   bool write_consistency_graph = false;
+  bool keep_states = false;  // keep every stage's state (else removed once not needed)
   // Which part of the work this process does (plan/shard.h, schedule/work_claims.h).
   ShardSpec shard;
   std::vector<std::string> image_names;  // --MPMVS.image_list_path ("": all)

@@ -1,7 +1,6 @@
 #include "colmap_ext/schedule/stage_inputs.h"
 
 #include <algorithm>
-#include <map>
 
 namespace mpmvs {
 
@@ -39,31 +38,6 @@ std::vector<StageInputs::Input> StageInputs::Inputs(int stage, const ReferencePr
     if (Produces(st.input, src)) inputs.push_back({st.input, src});
   }
   return inputs;
-}
-
-std::vector<std::vector<char>> NeededStageResults(const RunPlan& plan, const std::vector<ReferenceProblem>& problems,
-                                                  const std::vector<char>& done) {
-  const std::vector<StagePlan>& stages = plan.pipeline.stages;
-  std::map<int, size_t> index;
-  for (size_t i = 0; i < problems.size(); ++i) index.emplace(problems[i].ref, i);
-  std::vector<std::vector<char>> needed(problems.size(), std::vector<char>(stages.size(), 0));
-  for (size_t i = 0; i < problems.size(); ++i) {
-    if (!done[i]) needed[i].assign(stages.size(), 1);
-  }
-  for (int s = static_cast<int>(stages.size()) - 1; s >= 0; --s) {
-    const int input = stages[s].input;
-    if (input < 0) continue;
-    for (size_t i = 0; i < problems.size(); ++i) {
-      if (!needed[i][s]) continue;
-      needed[i][input] = 1;
-      if (!stages[s].schedule.geometric) continue;
-      for (int src : problems[i].src) {
-        const auto it = index.find(src);
-        if (it != index.end()) needed[it->second][input] = 1;
-      }
-    }
-  }
-  return needed;
 }
 
 }  // namespace mpmvs

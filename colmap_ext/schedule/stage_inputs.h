@@ -33,11 +33,4 @@ class StageInputs {
   std::vector<std::vector<bool>> produces_;  // [stage][view]
 };
 
-// [problem][stage]: whether a run must have that stage's result of each problem, given
-// which problems' final maps are done (whole, kept): a problem that is not done needs every
-// stage, and each needed stage the results of its input stage (its own and, in a geometric
-// stage, its sources'), so a done image may still have to recompute a state.
-std::vector<std::vector<char>> NeededStageResults(const RunPlan& plan, const std::vector<ReferenceProblem>& problems,
-                                                  const std::vector<char>& done);
-
 }  // namespace mpmvs

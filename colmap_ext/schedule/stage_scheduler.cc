@@ -5,6 +5,7 @@
 #include <thread>
 #include <utility>
 
+#include "colmap_ext/schedule/stage_results.h"
 #include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
@@ -34,7 +35,7 @@ StageScheduler::StageScheduler(const RunPlan& plan, const DenseWorkspace& worksp
   for (const ReferenceProblem& p : problems_) {
     done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
   }
-  needed_ = NeededStageResults(plan_, problems_, done_);
+  needed_ = NeededStageResults(plan_, problems_, inputs_, store_);
 }
 
 int StageScheduler::NumDone() const {
@@ -88,6 +89,10 @@ const kernels::PatchMatchProblem* StageScheduler::LookAhead() {
 
 void StageScheduler::Release(const StageReference& ref) { claims_->Release(ClaimKey(ref.problem->ref)); }
 
+int StageScheduler::RemoveUnneededStates() {
+  return mpmvs::RemoveUnneededStates(plan_, problems_, inputs_, store_);
+}
+
 std::string StageScheduler::ClaimKey(int view) const {
   return workspace_.views[view].name + "." + plan_.pipeline.stages[stage_].name;
 }
@@ -100,6 +105,14 @@ void StageScheduler::AwaitInputs() const {
     for (size_t i : mine_) {
       const ReferenceProblem& p = problems_[i];
       if (!needed_[i][stage_]) continue;
+      // A result there is resumed without its inputs (which may be gone: stage_results.h),
+      // unless its maps are still to be written from them.
+      const std::string map_type = StageMapType(plan_.pipeline, stage_);
+      const bool maps_from_inputs = WritesMapsFromInputs(plan_, stage_) && !done_[i] &&
+                                    !store_->FinalOutputsExist(p.ref, map_type);
+      if (!plan_.overwrite && store_->HasState(p.ref, plan_.pipeline.stages[stage_].name) && !maps_from_inputs) {
+        continue;
+      }
       for (const StageInputs::Input& in : inputs_.Inputs(stage_, p)) {
         const bool ours = std::any_of(mine_.begin(), mine_.end(), [&](size_t j) { return problems_[j].ref == in.view; });
         // In a whole run our own missing results stay missing (the source is left out, as

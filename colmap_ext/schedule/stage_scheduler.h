@@ -54,6 +54,9 @@ class StageScheduler {
   const kernels::PatchMatchProblem* LookAhead();
   // Releases the claim on ref's image in this stage (a no-op when none was taken).
   void Release(const StageReference& ref);
+  // Removes the states of every image of the run that no stage reads again (stage_results.h);
+  // returns how many.
+  int RemoveUnneededStates();
 
  private:
   // Waits for (or, in a --MPMVS.stage run, throws naming) the missing results the stage reads.
@@ -71,7 +74,7 @@ class StageScheduler {
   std::unique_ptr<WorkClaims> claims_;
   StageInputs inputs_;
   std::vector<char> done_;                 // [problem] final maps whole at the start (kept)
-  std::vector<std::vector<char>> needed_;  // [problem][stage] (stage_inputs.h)
+  std::vector<std::vector<char>> needed_;  // [problem][stage], at the start (stage_results.h)
 
   // The stage under way.
   int stage_ = -1;

@@ -138,8 +138,8 @@ std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const
   const StagePlan& stage = plan.pipeline.stages[stage_index];
   auto ref = std::make_unique<StageReference>();
   ref->problem = &p;
-  if (done && (!state_needed || store->HasState(p.ref, stage.name))) {
-    ref->action = StageReference::Action::kFinalMapsExist;
+  if (!state_needed || (done && store->HasState(p.ref, stage.name))) {
+    ref->action = done ? StageReference::Action::kFinalMapsExist : StageReference::Action::kNotNeeded;
     return ref;
   }
   ref->write_final = !done;

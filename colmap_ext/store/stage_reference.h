@@ -16,7 +16,8 @@ namespace mpmvs {
 
 // Owns the data pm's pointers refer to.
 struct StageReference {
-  enum class Action { kFinalMapsExist, kResume, kNoSources, kCompute };
+  // kNotNeeded: no stage reads this result any more (its later stages' results exist).
+  enum class Action { kFinalMapsExist, kNotNeeded, kResume, kNoSources, kCompute };
   Action action = Action::kCompute;
   const ReferenceProblem* problem = nullptr;
   bool filter_here = false;  // the output filter runs on this stage's written maps
@@ -33,8 +34,8 @@ struct StageReference {
 
 // Loads and assembles reference image p for stage stage_index; decides whether it is
 // computed, resumed or skipped. done: p's final maps were whole at the start of the run
-// (and are kept); state_needed: another reference needs this stage's result of p, so a
-// done reference without a usable state computes it. Throws Error naming the file on
+// (and are kept); state_needed: the run still needs this stage's result of p
+// (schedule/stage_results.h), so a done reference without a usable state computes it. Throws Error naming the file on
 // damaged input.
 std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const DenseWorkspace& workspace,
                                                       StageStore* store, int stage_index,

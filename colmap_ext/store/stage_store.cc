@@ -218,6 +218,14 @@ void StageStore::WriteState(int view, const std::string& stage, const kernels::P
   state_usable_[{view, stage}] = {true, "", StateStamp(view, stage)};
 }
 
+bool StageStore::RemoveState(int view, const std::string& stage) {
+  std::error_code ec;
+  std::filesystem::remove(StateRecordPath(view, stage), ec);
+  const bool removed = std::filesystem::remove(StatePath(view, stage), ec);
+  state_usable_.erase({view, stage});
+  return removed;
+}
+
 std::vector<std::pair<std::string, std::string>> StageStore::DamagedFinalOutputs(int view,
                                                                                  const std::string& type) const {
   const DenseView& v = workspace_.views[view];

@@ -39,6 +39,9 @@ class StageStore {
   bool HasState(int view, const std::string& stage);
   // Throws Error naming the file when it is damaged or of another size than the view.
   kernels::PatchMatchResult ReadState(int view, const std::string& stage) const;
+  // Removes the state file and its record, record first (a state without its record is not
+  // resumed); whether a state was there.
+  bool RemoveState(int view, const std::string& stage);
   // Writes the state file, then its record.
   void WriteState(int view, const std::string& stage, const kernels::PatchMatchResult& result);
   // Whether the final COLMAP maps of this type (and the consistency graph if asked) exist

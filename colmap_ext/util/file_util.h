@@ -27,6 +27,9 @@ std::vector<uint8_t> ReadFileBytes(const std::string& path);
 
 bool FileExists(const std::string& path);
 bool DirectoryExists(const std::string& path);
+// Total size of the regular files under path (0 when it does not exist; files that vanish
+// while it counts are skipped).
+uint64_t DirectoryBytes(const std::string& path);
 // Creates the directory and its parents (no error if it exists).
 void CreateDirectories(const std::string& path);
 // a + "/" + b, without doubling slashes.

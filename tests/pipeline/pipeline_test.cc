@@ -16,6 +16,7 @@
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "colmap_ext/util/error.h"
+#include "tests/io_test_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {
@@ -118,6 +119,7 @@ TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
   MpPatchMatchRun run;
   run.workspace_path = tmp.path();
   run.options.write_pictures = "all";
+  run.options.keep_states = true;  // below, every stage resumes from its state
   const MpPatchMatchSummary first = RunMpPatchMatchStereo(run);
   EXPECT_EQ(first.num_written, 3);
   const std::string depth_path = tmp.path() + "/stereo/depth_maps/view_00.png.geometric.bin";
@@ -420,6 +422,7 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   for (const char* name : {"plain", "ahead"}) test::WriteSmallPlaneScene(tmp / name, 80, 60, 4);
   MpPatchMatchRun run;
   run.options.write_pictures = "none";
+  run.options.keep_states = true;  // a state is removed below
   std::string last_stage;
   for (const char* name : {"plain", "ahead"}) {
     run.workspace_path = tmp / name;
@@ -449,6 +452,81 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
     EXPECT_EQ(summary.stages.back().images_computed, 1);
   }
   ExpectSameTrees(tmp / "plain", tmp / "ahead");
+}
+
+// Stage states in stereo/mpmvs go once no stage reads them: at most two stages' states at a
+// time, none at the end; the maps are those of a run that keeps every state.
+TEST(Pipeline, StageStatesGoOnceNoStageReadsThem) {
+  test::TempDir tmp;
+  for (const char* name : {"keep", "remove"}) test::WriteSmallPlaneScene(tmp / name, 96, 72, 3);
+  MpPatchMatchRun run;
+  run.options.write_pictures = "none";
+  run.workspace_path = tmp / "keep";
+  run.options.keep_states = true;
+  const MpPatchMatchSummary kept = RunMpPatchMatchStereo(run);
+  run.workspace_path = tmp / "remove";
+  run.options.keep_states = false;
+  const MpPatchMatchSummary removed = RunMpPatchMatchStereo(run);
+  const auto states = [&](const std::string& ws) {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(ws + "/stereo/mpmvs")) n += e.path().extension() == ".bin";
+    return n;
+  };
+  const size_t num_stages = kept.stages.size();
+  EXPECT_EQ(states(tmp / "keep"), static_cast<int>(3 * num_stages));
+  EXPECT_EQ(states(tmp / "remove"), 0);
+  const uint64_t state_bytes = fs::file_size(tmp / "keep/stereo/mpmvs/view_00.png.photometric.state.bin");
+  EXPECT_GE(kept.intermediate_final_bytes, 3 * num_stages * state_bytes);
+  EXPECT_LT(removed.intermediate_peak_bytes, 3 * 3 * state_bytes);  // two stages at a time
+  EXPECT_GE(removed.intermediate_peak_bytes, 3 * 2 * state_bytes);
+  EXPECT_LT(removed.intermediate_final_bytes, state_bytes);  // the claims folder only
+  ExpectSameTrees(tmp / "keep/stereo/depth_maps", tmp / "remove/stereo/depth_maps");
+  ExpectSameTrees(tmp / "keep/stereo/normal_maps", tmp / "remove/stereo/normal_maps");
+
+  // Maps lost after the states went: computed again, the same.
+  fs::remove(tmp / "remove/stereo/depth_maps/view_01.png.geometric.bin");
+  fs::remove(tmp / "remove/stereo/normal_maps/view_02.png.photometric.bin");
+  const MpPatchMatchSummary again = RunMpPatchMatchStereo(run);
+  EXPECT_EQ(again.num_written, 2);
+  EXPECT_EQ(states(tmp / "remove"), 0);
+  ExpectSameTrees(tmp / "keep/stereo/depth_maps", tmp / "remove/stereo/depth_maps");
+  ExpectSameTrees(tmp / "keep/stereo/normal_maps", tmp / "remove/stereo/normal_maps");
+}
+
+// A run split by stage (as Slurm's job arrays run it), one stage done for one image only (a
+// shard, or a run killed within the stage) and then resumed, removing states as it goes: the
+// maps of one run, and no image computed twice in a stage.
+TEST(Pipeline, StageByStageRunWithRemovedStatesResumesExactly) {
+  test::TempDir tmp;
+  for (const char* name : {"one", "split"}) test::WriteSmallPlaneScene(tmp / name, 96, 72, 3);
+  MpPatchMatchRun run;
+  run.options.write_pictures = "none";
+  run.workspace_path = tmp / "one";
+  const MpPatchMatchSummary one = RunMpPatchMatchStereo(run);
+  run.workspace_path = tmp / "split";
+  for (const StageSummary& stage : one.stages) {
+    run.options.stage = stage.name;
+    if (stage.name == "prior") {
+      test::WriteText(tmp / "list.txt", "view_00.png\n");
+      run.options.image_list_path = tmp / "list.txt";
+      EXPECT_EQ(RunMpPatchMatchStereo(run).stages[0].images_computed, 1);
+      EXPECT_FALSE(fs::exists(tmp / "split/stereo/mpmvs/view_01.png.photometric.state.bin"));
+      EXPECT_TRUE(fs::exists(tmp / "split/stereo/mpmvs/view_01.png.geometric1.state.bin"));
+      run.options.stage = "all";
+      run.options.image_list_path = "";
+      const MpPatchMatchSummary resumed = RunMpPatchMatchStereo(run);
+      EXPECT_EQ(resumed.stages[0].images_computed, 0);  // photometric: not needed again
+      EXPECT_EQ(resumed.stages[1].images_computed, 0);  // geometric1: resumed by the prior stage
+      EXPECT_EQ(resumed.stages[2].images_computed, 2);  // prior: the two left
+      EXPECT_EQ(resumed.stages[3].images_computed, 3);
+      break;
+    }
+    const MpPatchMatchSummary part = RunMpPatchMatchStereo(run);
+    ASSERT_EQ(part.stages.size(), 1u);
+    EXPECT_EQ(part.stages[0].images_computed, 3) << stage.name;
+  }
+  ExpectSameTrees(tmp / "one/stereo/depth_maps", tmp / "split/stereo/depth_maps");
+  ExpectSameTrees(tmp / "one/stereo/normal_maps", tmp / "split/stereo/normal_maps");
 }
 
 }  // namespace

@@ -49,6 +49,7 @@ MpPatchMatchRun SmallRun(const std::string& dir) {
   MpPatchMatchRun run;
   run.workspace_path = dir;
   run.options.write_pictures = "none";
+  run.options.keep_states = true;  // the tests below look at the states a finished run leaves
   run.options.max_window_scale = 1;
   run.options.iterations_per_scale = 2;
   run.options.geom_iterations = 1;
