@@ -75,16 +75,13 @@ int RunAblationCommand(const std::vector<std::string>& args) {
   const std::vector<AblationRowResult> results = RunAblation(options);
   const std::string table = FormatAblationTable(results);
   std::printf("\n%s\n", table.c_str());
-  std::vector<WorkspaceEvaluation> evaluations;
-  for (const AblationRowResult& r : results) evaluations.push_back(r.evaluation);
-  std::printf("%s\n", FormatComparisonTable(evaluations).c_str());
   WriteFileAtomically(JoinPaths(options.output_path, "ablation.txt"),
                       [&](std::ostream& out) { out << table; });
   ReportContext context;
   context.command = "colmap-mp ablation";
   for (const std::string& a : args) context.command += " " + a;
   context.commit = DetectSourceCommit();
-  WriteJsonFile(JoinPaths(options.output_path, "ablation.json"), EvaluationJson(evaluations, context));
+  WriteJsonFile(JoinPaths(options.output_path, "ablation.json"), AblationJson(results, context));
   LogInfo("Wrote " + JoinPaths(options.output_path, "ablation.txt") + " and ablation.json");
   return 0;
 }

@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -9,8 +10,33 @@
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
+namespace {
+
+// A fused cloud made before the maps were last written scores earlier maps: say so.
+void WarnIfFusedIsOlderThanTheMaps(const std::string& workspace, const std::string& fused,
+                                   const std::string& input_type) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const auto fused_time = fs::last_write_time(fused, ec);
+  if (ec) return;
+  const std::string suffix = "." + input_type + ".bin";
+  for (fs::recursive_directory_iterator it(JoinPaths(workspace, "stereo/depth_maps"), ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string path = it->path().string();
+    if (path.size() < suffix.size() || path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    std::error_code time_error;
+    if (fs::last_write_time(it->path(), time_error) > fused_time && !time_error) {
+      LogWarning(fused + " is older than " + path + ": its scores describe earlier maps; fuse again (colmap "
+                 "stereo_fusion) to score the current ones");
+      return;
+    }
+  }
+}
+
+}  // namespace
 
 int RunEvaluateCommand(const std::vector<std::string>& args) {
   EvaluationOptions options;
@@ -38,6 +64,8 @@ int RunEvaluateCommand(const std::vector<std::string>& args) {
       throw Error("missing --gt_path (and " + gt_path + " does not exist)");
     }
   }
+  const std::string fused = fused_path.empty() ? JoinPaths(workspace_path, "fused.ply") : fused_path;
+  if (fused != "none" && FileExists(fused)) WarnIfFusedIsOlderThanTheMaps(workspace_path, fused, options.input_type);
   WorkspaceEvaluation evaluation = EvaluateWorkspace(workspace_path, gt_path, fused_path, options);
   evaluation.label = label.empty() ? Basename(workspace_path) : label;
   PrintScoreTable(evaluation);
@@ -90,6 +118,7 @@ int RunCompareCommand(const std::vector<std::string>& args) {
       std::string fused = "none";
       if (fused_name != "none" && FileExists(JoinPaths(workspaces[i], fused_name))) {
         fused = JoinPaths(workspaces[i], fused_name);
+        WarnIfFusedIsOlderThanTheMaps(workspaces[i], fused, options.input_type);
       }
       evaluations.push_back(EvaluateWorkspace(workspaces[i], gt_path, fused, options));
       evaluations.back().label = labels[i];

@@ -5,6 +5,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "colmap_ext/util/colmap_runner.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
@@ -77,6 +79,7 @@ std::vector<AblationRowResult> RunAblation(const AblationOptions& options) {
     LogHeading("ablation row " + row.name);
     AblationRowResult result;
     result.name = row.name;
+    result.options = row.options;
     std::string dir_name = row.name;
     for (char& c : dir_name) {
       if (c == '+') c = '_';
@@ -150,6 +153,22 @@ std::string FormatAblationTable(const std::vector<AblationRowResult>& rows) {
     ss << line;
   }
   return ss.str();
+}
+
+std::string AblationJson(const std::vector<AblationRowResult>& rows, const ReportContext& context) {
+  std::vector<WorkspaceEvaluation> evaluations;
+  for (const AblationRowResult& r : rows) evaluations.push_back(r.evaluation);
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(EvaluationJson(evaluations, context));
+  for (size_t k = 0; k < rows.size(); ++k) {
+    nlohmann::ordered_json options = nlohmann::ordered_json::object();
+    std::istringstream lines(ResultOptionsText(rows[k].options));
+    for (std::string name, value; lines >> name >> value;) options[name] = value;
+    nlohmann::ordered_json& w = j["workspaces"][k];
+    w["row"] = rows[k].name;
+    w["seconds"] = rows[k].summary.seconds;
+    w["options"] = std::move(options);
+  }
+  return j.dump(2) + "\n";
 }
 
 }  // namespace mpmvs

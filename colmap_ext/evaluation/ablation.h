@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "colmap_ext/evaluation/evaluation.h"
+#include "colmap_ext/evaluation/evaluation_report.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 
 namespace mpmvs {
@@ -21,6 +22,7 @@ std::vector<AblationRow> PaperAblationRows(const MpMvsOptions& base);
 
 struct AblationRowResult {
   std::string name;
+  MpMvsOptions options;  // the row's --MPMVS options
   MpPatchMatchSummary summary;
   WorkspaceEvaluation evaluation;
   std::string workspace_path;
@@ -41,5 +43,9 @@ std::vector<AblationRowResult> RunAblation(const AblationOptions& options);
 // Table: per row depth-map and point-cloud accuracy / completeness / F1 at both tolerances,
 // run time, and the window sides and propagation pattern the photometric stage used.
 std::string FormatAblationTable(const std::vector<AblationRowResult>& rows);
+
+// ablation.json: EvaluationJson of the rows' workspaces, each with its row name, the values of
+// its options that change results and its run time.
+std::string AblationJson(const std::vector<AblationRowResult>& rows, const ReportContext& context);
 
 }  // namespace mpmvs

@@ -42,13 +42,14 @@ Backend::Backend(const BackendOptions& options) : options_(options) {
 Backend::~Backend() = default;
 
 void Backend::Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
-                  kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next) {
+                  kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
+                  const kernels::ProgressCallback& progress) {
   try {
     if (cuda_) {
-      cuda_->Run(problem, schedule, result, next);
+      cuda_->Run(problem, schedule, result, next, progress);
     } else {
       if (options_.cpu_look_ahead && next) next();
-      kernels::RunPatchMatchCpu(problem, schedule, result);
+      kernels::RunPatchMatchCpu(problem, schedule, result, progress);
     }
     kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max,
                                    options_.num_threads, result);

@@ -23,8 +23,10 @@ class Backend {
   // The result is finished alike on both backends: the depths are median-filtered, as the
   // reference pipeline does after every run (docs/algorithm.md §9.1); later stages, the
   // planar prior and the outputs all see the filtered result.
+  // progress: after each iteration, (done, total).
   void Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
-           kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next);
+           kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
+           const kernels::ProgressCallback& progress = nullptr);
 
   const std::string& Name() const { return name_; }
   void LogCacheStats() const;

@@ -9,6 +9,7 @@
 #include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/pipeline/backend.h"
 #include "colmap_ext/pipeline/depth_check.h"
+#include "colmap_ext/pipeline/run_eta.h"
 #include "colmap_ext/plan/reference_problems.h"
 #include "colmap_ext/plan/run_plan.h"
 #include "colmap_ext/plan/shard.h"
@@ -27,6 +28,9 @@ namespace {
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+// A reference image that runs longer than this reports its iterations at this interval.
+constexpr double kImageProgressSeconds = 30;
 
 void AddRunStatistics(const kernels::PatchMatchResult& result, StageSummary* summary) {
   ++summary->images_computed;
@@ -71,6 +75,7 @@ class Controller {
   std::unique_ptr<StageStore> store_;
   std::unique_ptr<StageScheduler> scheduler_;
   std::unique_ptr<Backend> backend_;
+  std::unique_ptr<RunEta> eta_;  // of this process's stages and images
 };
 
 MpPatchMatchSummary Controller::Run() {
@@ -151,6 +156,16 @@ void Controller::Start(MpPatchMatchSummary* summary) {
                ": no such usable CUDA device; running on the CPU instead");
   }
   CreateOutputDirectories();
+  double units = 0;
+  for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
+    if (plan_.only_stage >= 0 && plan_.only_stage != static_cast<int>(s)) continue;
+    const int iterations = static_cast<int>(plan_.pipeline.stages[s].schedule.iterations.size());
+    for (size_t i : mine_) {
+      const DenseView& view = workspace_.views[problems_[i].ref];
+      units += RunEta::Units(view.width, view.height, iterations);
+    }
+  }
+  eta_ = std::make_unique<RunEta>(units);
   std::string stage_names;
   for (const StagePlan& st : plan_.pipeline.stages) stage_names += (stage_names.empty() ? "" : " -> ") + st.name;
   LogInfo("Backend: " + backend_->Name() + "; " + std::to_string(mine_.size()) +
@@ -213,21 +228,29 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
   const StagePlan& stage = plan_.pipeline.stages[stage_index];
   const ReferenceProblem& p = *ref->problem;
   const std::string& name = workspace_.views[p.ref].name;
+  const DenseView& view = workspace_.views[p.ref];
+  const double units = RunEta::Units(view.width, view.height, static_cast<int>(stage.schedule.iterations.size()));
+  // The stage's progress line, with the whole run's time left.
+  const auto step = [&](const std::string& detail, bool computed) {
+    eta_->Done(units, computed);
+    const double left = eta_->SecondsLeft();
+    progress->Step(detail, left < 0 ? "" : ", run ETA " + FormatDuration(left));
+  };
   kernels::PatchMatchResult result;
   switch (ref->action) {
     case StageReference::Action::kFinalMapsExist:
       ++summary->images_resumed;
-      progress->Step(name + " (final maps exist, skipped)");
+      step(name + " (final maps exist, skipped)", false);
       scheduler_->Release(*ref);  // no-op unless its state was needed
       return;
     case StageReference::Action::kNotNeeded:
       ++summary->images_resumed;
-      progress->Step(name + " (its later stages are done, skipped)");
+      step(name + " (its later stages are done, skipped)", false);
       scheduler_->Release(*ref);
       return;
     case StageReference::Action::kNoSources:
       LogWarning(name + ": no usable source views in stage " + stage.name + "; skipped");
-      progress->Step(name + " (skipped)");
+      step(name + " (skipped)", false);
       scheduler_->Release(*ref);
       return;
     case StageReference::Action::kResume:
@@ -247,7 +270,18 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
         // The state keeps no view selection: the graph is made here, where the sources' results are.
         if (plan_.write_consistency_graph && ref->write_final) MarkConfirmingViews(ref->pm, plan_.num_threads, &result);
       } else {
-        backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); });
+        // A long image reports its iterations now and then.
+        const auto image_start = std::chrono::steady_clock::now();
+        double next_report = kImageProgressSeconds;
+        const auto iteration_done = [&](int done, int total) {
+          const double elapsed = SecondsSince(image_start);
+          if (elapsed < next_report || done >= total) return;
+          next_report = elapsed + kImageProgressSeconds;
+          LogProgress(name + ": stage " + stage.name + ", iteration " + std::to_string(done) + "/" +
+                      std::to_string(total) + ", elapsed " + FormatDuration(elapsed) + ", ETA " +
+                      FormatDuration(elapsed / done * (total - done)));
+        };
+        backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); }, iteration_done);
       }
       store_->WriteState(p.ref, stage.name, result);
       if (plan_.stage_pictures) {
@@ -259,7 +293,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
   }
   WriteOutputs(stage_index, *ref, &result);
   scheduler_->Release(*ref);
-  progress->Step(name + (ref->action == StageReference::Action::kResume ? " (resumed from stereo/mpmvs)" : ""));
+  const bool resumed = ref->action == StageReference::Action::kResume;
+  step(name + (resumed ? " (resumed from stereo/mpmvs)" : ""), !resumed);
 }
 
 void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result) {

@@ -35,6 +35,9 @@ void LogInfo(const std::string& message) { Log('I', message); }
 void LogDetail(const std::string& message) {
   if (log_level >= 2) Log('I', message);
 }
+void LogProgress(const std::string& message) {
+  if (log_level >= 1) Log('I', message);
+}
 void LogWarning(const std::string& message) { Log('W', "WARNING: " + message); }
 void LogError(const std::string& message) { Log('E', "ERROR: " + message); }
 
@@ -76,7 +79,7 @@ double ProgressReporter::ElapsedSeconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-void ProgressReporter::Step(const std::string& detail) {
+void ProgressReporter::Step(const std::string& detail, const std::string& suffix) {
   ++done_;
   const double elapsed = ElapsedSeconds();
   const double eta = done_ > 0 ? elapsed / done_ * (total_ - done_) : 0.0;
@@ -84,7 +87,7 @@ void ProgressReporter::Step(const std::string& detail) {
   std::snprintf(buf, sizeof(buf), "%s: %d/%d (%.0f%%) %s, elapsed %s, ETA %s", label_.c_str(),
                 done_, total_, total_ > 0 ? 100.0 * done_ / total_ : 100.0, detail.c_str(),
                 FormatDuration(elapsed).c_str(), FormatDuration(eta).c_str());
-  if (log_level >= 1) LogInfo(buf);
+  LogProgress(buf + suffix);
 }
 
 }  // namespace mpmvs

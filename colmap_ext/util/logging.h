@@ -9,6 +9,8 @@ void LogInfo(const std::string& message);
 // An information line of detail (each image's sources, planar prior, depth check): shown from
 // log level 2 on, like COLMAP's VLOG(2).
 void LogDetail(const std::string& message);
+// A progress line: shown from log level 1 on.
+void LogProgress(const std::string& message);
 void LogWarning(const std::string& message);
 void LogError(const std::string& message);
 // "==== title ====" heading like COLMAP's LOG_HEADING1.
@@ -29,8 +31,8 @@ std::string FormatNumber(double value);
 class ProgressReporter {
  public:
   ProgressReporter(std::string label, int total);
-  // Marks one more item done; detail names it (e.g. the image).
-  void Step(const std::string& detail);
+  // Marks one more item done; detail names it (e.g. the image), suffix follows the ETA.
+  void Step(const std::string& detail, const std::string& suffix = "");
   double ElapsedSeconds() const;
 
  private:

@@ -2,6 +2,8 @@
 // statistics (window sides and propagation pattern per iteration, stage order).
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "colmap_ext/evaluation/ablation.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "tests/test_util.h"
@@ -68,6 +70,14 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   EXPECT_NE(table.find("mPM+rs+gp"), std::string::npos);
   EXPECT_NE(table.find("41/21/11"), std::string::npos);
   EXPECT_NE(table.find("untextured 1%: acc comp F1"), std::string::npos);
+
+  // ablation.json: each row with its name, the options that change its results, its run time.
+  const nlohmann::json json = nlohmann::json::parse(AblationJson(rows, ReportContext{"test", "test"}));
+  ASSERT_EQ(json["workspaces"].size(), 6u);
+  EXPECT_EQ(json["workspaces"][0]["row"], "ACMH");
+  EXPECT_EQ(json["workspaces"][0]["options"]["max_window_scale"], "0");
+  EXPECT_EQ(json["workspaces"][5]["options"]["planar_prior"], "geometric");
+  EXPECT_EQ(json["workspaces"][5]["seconds"], rows[5].summary.seconds);
 }
 
 }  // namespace

@@ -351,6 +351,15 @@ TEST(Evaluation, EvaluateAndCompareCommands) {
   EXPECT_EQ(pairs[0].images[0].counts.num_agree, 160 * 120 / 2);
   EXPECT_EQ(pairs[0].images[1].counts.num_agree, 160 * 120);
 
+  // A fused cloud older than the maps it should show: a warning naming both.
+  fs::copy_file(ws_a + "/gt/gt_points.ply", ws_a + "/fused.ply");
+  const std::string map = ws_a + "/stereo/depth_maps/" + scene.views[1].name + ".geometric.bin";
+  fs::last_write_time(map, fs::last_write_time(ws_a + "/fused.ply") + std::chrono::seconds(5));
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(RunCompareCommand({"--workspace_paths", ws_a, "--gt_path", ws_a + "/gt"}), 0);
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find(ws_a + "/fused.ply is older than " + map), std::string::npos) << warned;
+
   EXPECT_THROW(RunEvaluateCommand({"--workspace_path", dir / "nope"}), Error);
   EXPECT_THROW(RunGenerateSceneCommand({"--scene", "castle", "--output_path", dir / "x"}), Error);
 }
