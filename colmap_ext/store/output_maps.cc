@@ -1,5 +1,6 @@
 #include "colmap_ext/store/output_maps.h"
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -39,6 +40,26 @@ ConsistencyGraph MakeConsistencyGraph(const kernels::PatchMatchProblem& problem,
   return graph;
 }
 
+// Colours span the depths of the scene the map shows (its 1 % to 99 % quantiles, as
+// `evaluate`'s panels take them of the ground truth), not the whole search range, where a
+// scene looks uniform; the search range when the map holds no depth.
+void SceneDepthRange(const FloatMap& depth, const ReferenceProblem& problem, double* lo, double* hi) {
+  if (!RobustRange(depth.data, 0.01, 0.99, lo, hi) || !(*hi > *lo)) {
+    *lo = problem.depth_min;
+    *hi = problem.depth_max;
+  }
+}
+
+void WriteSceneDepthPicture(const std::string& path, const FloatMap& depth, const ReferenceProblem& problem,
+                            const std::string& title) {
+  double lo = 0, hi = 1;
+  SceneDepthRange(depth, problem, &lo, &hi);
+  WriteDepthPicture(path, depth, lo, hi, title + " (black: no depth)");
+}
+
+// At most one vertex dot per this many pixels, so that the prior stays visible under them.
+constexpr int kPixelsPerVertexDot = 400;
+
 std::string PictureBase(const DenseWorkspace& workspace, int view, const std::string& tag) {
   return JoinPaths(workspace.IntermediateDir(), "pictures/" + workspace.views[view].name + "." + tag);
 }
@@ -62,9 +83,9 @@ void WriteFinalMaps(WorkspaceIo* io, const DenseWorkspace& workspace, const Refe
   if (write_pictures) {
     const std::string& name = workspace.views[problem.ref].name;
     const std::string base = PictureBase(workspace, problem.ref, type);
-    WriteDepthPicture(base + ".depth.png", depth_map, problem.depth_min, problem.depth_max,
-                      name + " " + type + " depth");
-    WriteNormalPicture(base + ".normal.png", normal_map, name + " " + type + " normals");
+    WriteSceneDepthPicture(base + ".depth.png", depth_map, problem, name + " " + type + " depth");
+    WriteNormalPicture(base + ".normal.png", normal_map,
+                       name + " " + type + " normals (RGB = x, -y, -z) black: none");
   }
 }
 
@@ -75,16 +96,23 @@ void WriteStagePictures(const DenseWorkspace& workspace, const ReferenceProblem&
   const std::string base = PictureBase(workspace, problem.ref, stage);
   FloatMap depth(result.width, result.height, 1);
   depth.data = ResultDepth(result, camera, problem.depth_min, problem.depth_max);
-  WriteDepthPicture(base + ".depth.png", depth, problem.depth_min, problem.depth_max, name + " stage " + stage);
+  WriteSceneDepthPicture(base + ".depth.png", depth, problem, name + " stage " + stage);
   if (prior) {
     FloatMap prior_depth(result.width, result.height, 1);
     prior_depth.data = PriorDepthMap(*prior, camera);
     WriteFloatMap(base + ".prior_model.bin", prior_depth);
-    RgbImage picture = DepthPicture(prior_depth, problem.depth_min, problem.depth_max,
-                                    name + " planar prior and vertices");
+    double lo = 0, hi = 1;
+    SceneDepthRange(depth, problem, &lo, &hi);  // the stage's scale, to compare the two
+    const size_t max_dots = std::max<size_t>(1, static_cast<size_t>(result.width) * result.height / kPixelsPerVertexDot);
+    const size_t stride = (prior->vertices.size() + max_dots - 1) / max_dots;
+    RgbImage picture = DepthPicture(
+        prior_depth, lo, hi,
+        name + " planar prior (black: none), white: " +
+            (stride > 1 ? "1 in " + std::to_string(stride) + " vertices" : std::string("its vertices")));
     // The picture has a title band above the map: find the map's top-left by its size.
     const int top = picture.height - result.height;
-    for (const PlanarPriorVertex& vertex : prior->vertices) {
+    for (size_t k = 0; k < prior->vertices.size(); k += std::max<size_t>(1, stride)) {
+      const PlanarPriorVertex& vertex = prior->vertices[k];
       // Source views' vertices may lie outside the image, and the picture's title band.
       if (vertex.u < 0 || vertex.v < 0 || vertex.u >= result.width || vertex.v >= result.height) continue;
       FillRect(&picture, vertex.u, top + vertex.v, 1, 1, RgbColor{255, 255, 255});
