@@ -35,6 +35,14 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
   const MpPatchMatchSummary s = RunMpPatchMatchStereo(run, io);
   LogHeading("mp_patch_match_stereo finished in " + FormatDuration(s.seconds));
   char line[512];
+  if (s.seconds > 0) {
+    std::snprintf(line, sizeof(line),
+                  "%.1f s wall, %.1f s CPU (%.2f cores busy); %.2f s (%.1f %%) outside the parallel work "
+                  "(loading, planning, writing between images)",
+                  s.seconds, s.cpu_seconds, s.cpu_seconds / s.seconds, s.serial_seconds,
+                  100 * s.serial_seconds / s.seconds);
+    LogInfo(line);
+  }
   for (const StageSummary& st : s.stages) {
     // A cost sample: one of a window's 36 points matched in one source view.
     const double samples = static_cast<double>(st.ncc_evaluations) * kernels::kWindowSamples;

@@ -1,7 +1,10 @@
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <memory>
 #include <set>
 #include <utility>
@@ -28,6 +31,13 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The process's CPU time (user + system), seconds.
+double CpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 void AddRunStatistics(const kernels::PatchMatchResult& result, StageSummary* summary) {
   ++summary->images_computed;
   summary->ncc_evaluations += result.init_ncc_evaluations;
@@ -37,6 +47,9 @@ void AddRunStatistics(const kernels::PatchMatchResult& result, StageSummary* sum
 }
 
 // Plan; then for each stage, each reference image the scheduler hands out: run, write, store.
+// An image's outputs are written while the next image of the stage runs, if the scheduler
+// had it ready (side work, pipeline/backend.h); otherwise, and at the end of a stage, before
+// anything else happens.
 class Controller {
  public:
   Controller(const MpPatchMatchRun& run, WorkspaceIo* io) : run_(run), io_(io) {}
@@ -53,9 +66,17 @@ class Controller {
   bool AllFinalMapsExist() const;
   void CreateOutputDirectories() const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
-  // Runs or resumes a prepared image, writes its state and maps, releases its claim.
+  // Runs or resumes a prepared image; a computed image's outputs are then pending.
   void RunReference(int stage_index, std::unique_ptr<StageReference> ref, StageSummary* summary,
                     ProgressReporter* progress);
+  // Writes the pending image's state, pictures and maps, releases its claim.
+  void FinishPending();
+  // Writes a computed image's state and pictures; counts it.
+  void StoreComputed(int stage_index, const StageReference& ref, const kernels::PatchMatchResult& result,
+                     StageSummary* summary);
+  // Writes a computed or resumed image's outputs, releases its claim, reports progress.
+  void FinishReference(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result,
+                       ProgressReporter* progress);
   // Output filter, geometric invalidation and the COLMAP maps of a stage that writes them.
   void WriteOutputs(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result);
 
@@ -69,10 +90,20 @@ class Controller {
   std::unique_ptr<StageStore> store_;
   std::unique_ptr<StageScheduler> scheduler_;
   std::unique_ptr<Backend> backend_;
+  struct Pending {  // a computed image whose outputs are not written yet
+    int stage_index = -1;
+    std::unique_ptr<StageReference> ref;
+    kernels::PatchMatchResult result;
+    StageSummary* summary = nullptr;
+    ProgressReporter* progress = nullptr;
+  };
+  std::unique_ptr<Pending> pending_;
+  double parallel_seconds_ = 0;  // wall time in the backend's runs and the depth check
 };
 
 MpPatchMatchSummary Controller::Run() {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = CpuSeconds();
   MpPatchMatchSummary summary;
   if (Plan(&summary)) {
     Start(&summary);
@@ -83,11 +114,13 @@ MpPatchMatchSummary Controller::Run() {
     summary.num_written = static_cast<int>(written_.size());
   }
   summary.seconds = SecondsSince(start);
+  summary.cpu_seconds = CpuSeconds() - cpu_start;
+  summary.serial_seconds = std::max(0.0, summary.seconds - parallel_seconds_);
   return summary;
 }
 
 bool Controller::Plan(MpPatchMatchSummary* summary) {
-  plan_ = MakeRunPlan(run_.colmap_options, run_.options, run_.cpu_look_ahead);
+  plan_ = MakeRunPlan(run_.colmap_options, run_.options, run_.cpu_side_work);
   if (run_.workspace_format != "COLMAP") {
     throw Error("--workspace_format " + run_.workspace_format +
                 " is not supported by mp-mvs; use a COLMAP workspace (image_undistorter --output_type COLMAP)");
@@ -187,9 +220,15 @@ void Controller::RunStage(int stage_index, MpPatchMatchSummary* summary) {
              std::to_string(stage.schedule.iterations.size()) + " iterations)");
   scheduler_->BeginStage(stage_index);
   ProgressReporter progress("stage " + stage.name, static_cast<int>(mine_.size()));
-  while (std::unique_ptr<StageReference> ref = scheduler_->Next()) {
+  for (;;) {
+    // Next() may prepare an image or wait for other processes: never with outputs pending
+    // (another process may be waiting for them).
+    if (!scheduler_->NextIsReady()) FinishPending();
+    std::unique_ptr<StageReference> ref = scheduler_->Next();
+    if (!ref) break;
     RunReference(stage_index, std::move(ref), &stage_summary, &progress);
   }
+  FinishPending();  // the next stage reads this one's results
   stage_summary.seconds = SecondsSince(start);
   summary->stages.push_back(stage_summary);
 }
@@ -199,6 +238,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
   const StagePlan& stage = plan_.pipeline.stages[stage_index];
   const ReferenceProblem& p = *ref->problem;
   const std::string& name = workspace_.views[p.ref].name;
+  const bool runs_on_backend = ref->action == StageReference::Action::kCompute && stage.kind != StageKind::kDepthCheck;
+  if (!runs_on_backend) FinishPending();
   kernels::PatchMatchResult result;
   switch (ref->action) {
     case StageReference::Action::kFinalMapsExist:
@@ -218,27 +259,71 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
     case StageReference::Action::kCompute:
       if (stage.kind == StageKind::kDepthCheck) {
         result = ref->input;
+        const auto check_start = std::chrono::steady_clock::now();
         const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_error_clamp,
                                                        stage.confirming_views, plan_.num_threads, &result);
+        parallel_seconds_ += SecondsSince(check_start);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
         LogInfo(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
                 std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
       } else {
-        backend_->Run(ref->pm, stage.schedule, &result, [this] { return scheduler_->LookAhead(); });
+        const auto run_start = std::chrono::steady_clock::now();
+        std::exception_ptr side_error;  // raised here, not inside the backend's run
+        backend_->Run(ref->pm, stage.schedule, &result, [this, &side_error]() -> const kernels::PatchMatchProblem* {
+          try {
+            FinishPending();
+          } catch (...) {
+            side_error = std::current_exception();
+            return nullptr;
+          }
+          return scheduler_->LookAhead();
+        });
+        parallel_seconds_ += SecondsSince(run_start);
+        if (side_error) std::rethrow_exception(side_error);
+        FinishPending();  // a backend that did not call back
+        ref->input = kernels::PatchMatchResult();  // the run's initial state: not needed after it
+        ref->pm.init_plane = nullptr;
+        ref->pm.init_cost = nullptr;
+        pending_ = std::make_unique<Pending>();
+        pending_->stage_index = stage_index;
+        pending_->ref = std::move(ref);
+        pending_->result = std::move(result);
+        pending_->summary = summary;
+        pending_->progress = progress;
+        return;
       }
-      store_->WriteState(p.ref, stage.name, result);
-      if (plan_.write_pictures) {
-        WriteStagePictures(workspace_, p, ref->pm.ref_camera, stage.name, result,
-                           stage.kind == StageKind::kPlanarPrior ? &ref->prior : nullptr);
-      }
-      AddRunStatistics(result, summary);
+      StoreComputed(stage_index, *ref, result, summary);
       break;
   }
-  WriteOutputs(stage_index, *ref, &result);
-  scheduler_->Release(*ref);
-  progress->Step(name + (ref->action == StageReference::Action::kResume ? " (resumed from stereo/mpmvs)" : ""));
+  FinishReference(stage_index, *ref, &result, progress);
+}
+
+void Controller::StoreComputed(int stage_index, const StageReference& ref, const kernels::PatchMatchResult& result,
+                               StageSummary* summary) {
+  const StagePlan& stage = plan_.pipeline.stages[stage_index];
+  store_->WriteState(ref.problem->ref, stage.name, result);
+  if (plan_.write_pictures) {
+    WriteStagePictures(workspace_, *ref.problem, ref.pm.ref_camera, stage.name, result,
+                       stage.kind == StageKind::kPlanarPrior ? &ref.prior : nullptr);
+  }
+  AddRunStatistics(result, summary);
+}
+
+void Controller::FinishPending() {
+  if (!pending_) return;
+  const std::unique_ptr<Pending> pending = std::move(pending_);
+  StoreComputed(pending->stage_index, *pending->ref, pending->result, pending->summary);
+  FinishReference(pending->stage_index, *pending->ref, &pending->result, pending->progress);
+}
+
+void Controller::FinishReference(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result,
+                                 ProgressReporter* progress) {
+  WriteOutputs(stage_index, ref, result);
+  scheduler_->Release(ref);
+  progress->Step(workspace_.views[ref.problem->ref].name +
+                 (ref.action == StageReference::Action::kResume ? " (resumed from stereo/mpmvs)" : ""));
 }
 
 void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernels::PatchMatchResult* result) {

@@ -62,7 +62,7 @@ int FindStage(const PipelinePlan& pipeline, const std::string& name) {
 }  // namespace
 
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
-                    bool cpu_look_ahead) {
+                    bool cpu_side_work) {
   std::string error;
   if (!colmap_options.Check(&error) || !options.Check(&error)) throw Error(error);
   RunPlan plan;
@@ -76,7 +76,7 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.backend.gpu_index = FirstGpuIndex(colmap_options.gpu_index);
   plan.backend.num_threads = plan.num_threads;
   plan.backend.cache_bytes = plan.cache_bytes;
-  plan.backend.cpu_look_ahead = cpu_look_ahead;
+  plan.backend.cpu_side_work = cpu_side_work;
   plan.chroma_guide_weight = static_cast<float>(options.chroma_weight);
   plan.sources_per_reference = options.max_source_images;
   plan.overwrite = options.overwrite;

@@ -40,6 +40,6 @@ struct RunPlan {
 
 // Checks the options (throws Error naming the bad one) and translates them.
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
-                    bool cpu_look_ahead);
+                    bool cpu_side_work);
 
 }  // namespace mpmvs

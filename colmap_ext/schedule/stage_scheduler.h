@@ -48,6 +48,8 @@ class StageScheduler {
   // Blocks while the only images left are held by other live processes. Throws what
   // preparing an image throws.
   std::unique_ptr<StageReference> Next();
+  // Whether Next() returns an image LookAhead() prepared, without preparing or waiting.
+  bool NextIsReady() const { return ahead_ != nullptr; }
   // For the backend while the image Next() returned runs: claims and prepares the image
   // after it and returns its problem when it is to be computed; nullptr otherwise (none,
   // held by another process, or not computed).

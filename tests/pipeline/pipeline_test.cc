@@ -334,10 +334,11 @@ void ExpectSameTrees(const std::string& a, const std::string& b) {
   }
 }
 
-// With CUDA the controller assembles the next reference image (images, source depth maps,
-// initial state, planar prior) while the current one runs. cpu_look_ahead takes that path on
-// the CPU: it must write exactly the files of the ordinary path, also when a rerun mixes
-// skipped, resumed and computed reference images.
+// While a reference image runs, the controller writes the previous image's outputs and
+// assembles the next one (images, source depth maps, initial state, planar prior): on the
+// CPU on a thread beside the passes (cpu_side_work), with CUDA while its kernels run. It
+// must write exactly the files of the serial order, also when a rerun mixes skipped,
+// resumed and computed reference images.
 TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   test::TempDir tmp;
   for (const char* name : {"plain", "ahead"}) test::WriteSmallPlaneScene(tmp / name, 80, 60, 4);
@@ -346,7 +347,7 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   std::string last_stage;
   for (const char* name : {"plain", "ahead"}) {
     run.workspace_path = tmp / name;
-    run.cpu_look_ahead = std::string(name) == "ahead";
+    run.cpu_side_work = std::string(name) == "ahead";
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     EXPECT_EQ(summary.num_written, 4);
     ASSERT_GE(summary.stages.size(), 3u);
@@ -366,7 +367,7 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
     }
     ASSERT_TRUE(fs::remove(ws + "/stereo/mpmvs/view_01.png." + last_stage + ".state.bin"));
     run.workspace_path = ws;
-    run.cpu_look_ahead = std::string(name) == "ahead";
+    run.cpu_side_work = std::string(name) == "ahead";
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     EXPECT_EQ(summary.num_written, 2);
     EXPECT_EQ(summary.stages.back().images_computed, 1);
