@@ -31,6 +31,10 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// What one more reference image in memory costs, per pixel: a stage result and the input
+// state (plane, costs, view mask: 32 bytes each) and the planar prior.
+constexpr size_t kReferenceBytesPerPixel = 96;
+
 // The process's CPU time (user + system), seconds.
 double CpuSeconds() {
   rusage usage{};
@@ -62,6 +66,9 @@ class Controller {
   bool Plan(MpPatchMatchSummary* summary);
   // Registers the run with the scheduler, starts the backend, creates the output folders.
   void Start(MpPatchMatchSummary* summary);
+  // Whether the CPU may keep two more reference images in memory for its side work (the
+  // previous one's outputs and the next one, pipeline/backend.h): within the cache budget.
+  bool SideWorkFitsCache() const;
   // Whether every reference of this process already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
   void CreateOutputDirectories() const;
@@ -172,6 +179,7 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
 void Controller::Start(MpPatchMatchSummary* summary) {
   scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_,
                                                 StateOptionsText(run_.options), run_.workspace_path);
+  plan_.backend.cpu_side_work = plan_.backend.cpu_side_work && SideWorkFitsCache();
   summary->num_already_done += scheduler_->NumDone();
   backend_ = std::make_unique<Backend>(plan_.backend);
   summary->backend = backend_->Name();
@@ -185,6 +193,20 @@ void Controller::Start(MpPatchMatchSummary* summary) {
   for (const StagePlan& st : plan_.pipeline.stages) stage_names += (stage_names.empty() ? "" : " -> ") + st.name;
   LogInfo("Backend: " + backend_->Name() + "; " + std::to_string(mine_.size()) +
           " reference images; stages: " + stage_names);
+}
+
+bool Controller::SideWorkFitsCache() const {
+  size_t pixels = 0;
+  for (size_t i : mine_) {
+    const DenseView& view = workspace_.views[problems_[i].ref];
+    pixels = std::max(pixels, static_cast<size_t>(view.width) * view.height);
+  }
+  const size_t bytes = 2 * pixels * kReferenceBytesPerPixel;
+  if (bytes <= plan_.cache_bytes) return true;
+  LogInfo("The CPU writes each image's outputs before it assembles the next image: doing both while an image "
+          "runs keeps two more images' maps in memory (" + std::to_string(bytes >> 20) +
+          " MB), more than --PatchMatchStereo.cache_size allows");
+  return false;
 }
 
 bool Controller::AllFinalMapsExist() const {
