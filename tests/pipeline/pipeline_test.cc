@@ -8,10 +8,12 @@
 #include <iterator>
 #include <map>
 #include <string>
+#include <utility>
 
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "colmap_ext/util/error.h"
@@ -350,6 +352,9 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
     run.cpu_side_work = std::string(name) == "ahead";
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     EXPECT_EQ(summary.num_written, 4);
+    EXPECT_GT(summary.cpu_seconds, 0);
+    EXPECT_GE(summary.serial_seconds, 0);
+    EXPECT_LT(summary.serial_seconds, summary.seconds);
     ASSERT_GE(summary.stages.size(), 3u);
     last_stage = summary.stages.back().name;
   }
@@ -373,6 +378,39 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
     EXPECT_EQ(summary.stages.back().images_computed, 1);
   }
   ExpectSameTrees(tmp / "plain", tmp / "ahead");
+}
+
+// A depth map write that fails while the next image runs (the CPU's side work, on its own
+// thread) is the run's error, naming the file, as it was in the serial order; the images
+// written before it keep their maps.
+class FailingDepthWriteIo : public MpMvsWorkspaceIo {
+ public:
+  explicit FailingDepthWriteIo(std::string failing_name) : failing_name_(std::move(failing_name)) {}
+  void WriteDepthMap(const std::string& path, const FloatMap& depth, float depth_min, float depth_max) override {
+    if (path.find(failing_name_) != std::string::npos) throw Error("cannot write " + path + ": disk full");
+    MpMvsWorkspaceIo::WriteDepthMap(path, depth, depth_min, depth_max);
+  }
+
+ private:
+  std::string failing_name_;
+};
+
+TEST(Pipeline, WriteErrorDuringTheNextImageIsTheRunsError) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 80, 60, 4);
+  MpPatchMatchRun run;
+  run.workspace_path = tmp.path();
+  run.options.write_pictures = false;
+  run.colmap_options.geom_consistency = false;  // one stage: view_01's maps are written while view_02 runs
+  FailingDepthWriteIo io("view_01.png.photometric");
+  try {
+    RunMpPatchMatchStereo(run, &io);
+    FAIL() << "the failed write was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("view_01.png.photometric.bin: disk full"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(tmp.path() + "/stereo/depth_maps/view_00.png.photometric.bin"));
+  EXPECT_FALSE(fs::exists(tmp.path() + "/stereo/depth_maps/view_01.png.photometric.bin"));
 }
 
 }  // namespace
