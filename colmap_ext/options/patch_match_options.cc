@@ -105,6 +105,15 @@ std::string ResultOptionsText(const MpMvsOptions& options) {
   return s.str();
 }
 
+std::string ResultOptionsText(const PatchMatchStereoOptions& options) {
+  std::ostringstream s;
+  s.precision(17);
+  options.Visit([&](const OptionSpec& spec, const auto& value) {
+    if (spec.effect != OptionEffect::kRun) s << "PatchMatchStereo." << spec.name << " " << value << "\n";
+  });
+  return s.str();
+}
+
 std::string OptionsMarkdown() {
   std::ostringstream md;
   md << "# Options of mp_patch_match_stereo\n\n"

@@ -200,6 +200,12 @@ bool ApplyPreset(const std::string& preset, const std::function<bool(const std::
 // order (doubles with 17 digits; kResultWhenSet options only away from their default): the
 // options part of the state fingerprint (store/state_record.h).
 std::string ResultOptionsText(const MpMvsOptions& options);
+// The values of COLMAP's options that change results, one "PatchMatchStereo.name value" line
+// each in declaration order: with the text above, part of the run's fingerprint
+// (store/result_fingerprint.h), on which runs sharing a workspace must agree. Not part of a
+// state's fingerprint: image size, depth range and sources enter each state's inputs hash,
+// and the output filter acts only on the final maps.
+std::string ResultOptionsText(const PatchMatchStereoOptions& options);
 
 // docs/options.md: every option with its default, paper value, range and help.
 std::string OptionsMarkdown();

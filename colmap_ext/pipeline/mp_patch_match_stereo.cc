@@ -14,6 +14,7 @@
 #include "colmap_ext/plan/shard.h"
 #include "colmap_ext/schedule/stage_scheduler.h"
 #include "colmap_ext/store/output_maps.h"
+#include "colmap_ext/store/result_fingerprint.h"
 #include "colmap_ext/store/stage_reference.h"
 #include "colmap_ext/store/stage_store.h"
 #include "colmap_ext/store/state_record.h"
@@ -67,6 +68,7 @@ class Controller {
   std::vector<size_t> mine_;                // positions in problems_ this process runs
   std::set<int> written_;                   // views whose final maps this run wrote
   std::unique_ptr<StageStore> store_;
+  std::unique_ptr<WorkClaims> claims_;  // this run's registration, until the scheduler takes it
   std::unique_ptr<StageScheduler> scheduler_;
   std::unique_ptr<Backend> backend_;
 };
@@ -123,22 +125,25 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
     LogInfo("This shard has no reference images; nothing to do.");
     return false;
   }
-  // Only this process's images: another process may be writing the others' maps.
-  if (!plan_.overwrite) {
-    for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
-  }
   if (AllFinalMapsExist()) {
     summary->num_already_done = static_cast<int>(mine_.size());
     LogInfo("All " + std::to_string(mine_.size()) + " depth maps exist already (" + plan_.final_type +
             "); nothing to do. Use --MPMVS.overwrite 1 to recompute.");
     return false;
   }
+  // Before this run changes any file: a live run with other options refuses it.
+  claims_ = JoinWorkspace(plan_, workspace_,
+                          MakeResultFingerprint(run_.colmap_options, run_.options, workspace_, problems_).RunTag(),
+                          run_.workspace_path);
+  // Only this process's images: another process may be writing the others' maps.
+  if (!plan_.overwrite) {
+    for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
+  }
   return true;
 }
 
 void Controller::Start(MpPatchMatchSummary* summary) {
-  scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_,
-                                                StateOptionsText(run_.options), run_.workspace_path);
+  scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_, std::move(claims_));
   summary->num_already_done += scheduler_->NumDone();
   backend_ = std::make_unique<Backend>(plan_.backend);
   summary->backend = backend_->Name();

@@ -12,24 +12,31 @@
 
 namespace mpmvs {
 
+std::unique_ptr<WorkClaims> JoinWorkspace(const RunPlan& plan, const DenseWorkspace& workspace,
+                                          const std::string& run_tag, const std::string& workspace_path) {
+  auto claims = std::make_unique<WorkClaims>(JoinPaths(workspace.IntermediateDir(), "claims"),
+                                             plan.claim_lease_seconds);
+  const std::vector<ClaimHolder> others = claims->RegisterRun(run_tag);
+  if (!others.empty()) {
+    throw Error("another mp_patch_match_stereo run with other options (" + others.front().Describe() +
+                ") is working on " + workspace_path +
+                "; the two would mix their results. Options that change results (--PatchMatchStereo.* such as "
+                "max_image_size, filter, depth_min/depth_max; --MPMVS.* such as seed) and the patch-match.cfg "
+                "(--config_path) must be the same. Wait for it to finish, or run on a copy of the workspace.");
+  }
+  return claims;
+}
+
 StageScheduler::StageScheduler(const RunPlan& plan, const DenseWorkspace& workspace, StageStore* store,
                                const std::vector<ReferenceProblem>& problems, const std::vector<size_t>& mine,
-                               const std::string& options_text, const std::string& workspace_path)
+                               std::unique_ptr<WorkClaims> claims)
     : plan_(plan),
       workspace_(workspace),
       store_(store),
       problems_(problems),
       mine_(mine),
-      claims_(std::make_unique<WorkClaims>(JoinPaths(workspace.IntermediateDir(), "claims"),
-                                           plan.claim_lease_seconds)),
+      claims_(std::move(claims)),
       inputs_(plan, problems) {
-  const std::vector<ClaimHolder> others = claims_->RegisterRun(std::to_string(HashText(options_text)));
-  if (!others.empty()) {
-    throw Error("another mp_patch_match_stereo run with other --MPMVS options (" + others.front().Describe() +
-                ") is working on " + workspace_path +
-                "; the two would mix their intermediate results. Wait for it to finish, or run on a copy of "
-                "the workspace. Runs with the same options share a workspace.");
-  }
   // Over every runnable image: which results this process's images need from the others.
   for (const ReferenceProblem& p : problems_) {
     done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));

@@ -19,7 +19,7 @@
 // much longer than any skew.
 //
 // Runs whose results would differ (other options) must not share a workspace: each run also
-// holds the claim runs/HOST.PID with a tag (its options' fingerprint) and its wall-clock
+// holds the claim runs/HOST.PID with a tag (store/result_fingerprint.h) and its wall-clock
 // start, and stops when a live run with another tag started before it (RegisterRun). Runs
 // with one tag, such as the Slurm array tasks of one submit, share a workspace freely.
 #include <atomic>

@@ -10,6 +10,7 @@
 
 #include "colmap_ext/schedule/work_claims.h"
 #include "colmap_ext/util/file_util.h"
+#include "tests/io_test_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {
@@ -102,7 +103,7 @@ TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
     EXPECT_TRUE(other.RegisterRun("other-options").empty());
     EXPECT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "refused.log"), 1);
     const std::string log = test::ReadTextFile(tmp_ / "refused.log");
-    EXPECT_NE(log.find("another mp_patch_match_stereo run with other --MPMVS options (" + WorkClaims::ThisHost() +
+    EXPECT_NE(log.find("another mp_patch_match_stereo run with other options (" + WorkClaims::ThisHost() +
                        ":" + std::to_string(::getpid()) + ")"),
               std::string::npos)
         << log;
@@ -116,6 +117,40 @@ TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
   // Once the other run has ended, the same command runs.
   ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "after.log"), 0)
       << test::ReadTextFile(tmp_ / "after.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+// Issue 35, defect 1: not only --MPMVS options; every option that changes a result takes part
+// in the check, COLMAP's and the patch-match.cfg the run reads. Run A (the default options)
+// is held on its first image by this test; runs with another max_image_size, filter, depth
+// range or configuration stop at once (timeout: before the fix they joined in and waited).
+TEST_F(ConcurrentRuns, RunWithOtherColmapOptionsOrConfigIsRefusedWhileOneRuns) {
+  WorkClaims other(Claims(), 600);
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  int rc = -1;
+  std::thread run_a([&] { rc = test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "a.log"); });
+  const bool waiting = WaitForText(tmp_ / "a.log", "to finish stage photometric");
+  test::WriteText(tmp_ / "other.cfg", first_image_ + "\n__all__\n");
+  const std::vector<std::string> others = {"--PatchMatchStereo.max_image_size 48", "--PatchMatchStereo.filter 1",
+                                           "--PatchMatchStereo.depth_min 0.5 --PatchMatchStereo.depth_max 50",
+                                           "--config_path " + tmp_ / "other.cfg"};
+  std::vector<std::string> logs;
+  std::vector<int> rcs;
+  for (size_t k = 0; k < others.size(); ++k) {
+    const std::string log = tmp_ / ("b" + std::to_string(k) + ".log");
+    rcs.push_back(test::RunCommand("timeout 20 " + RunCommandLine(tmp_ / "shared") + " " + others[k], log));
+    logs.push_back(test::ReadTextFile(log));
+  }
+  other.Release(first_image_ + ".photometric");
+  run_a.join();
+  EXPECT_TRUE(waiting) << test::ReadTextFile(tmp_ / "a.log");
+  for (size_t k = 0; k < others.size(); ++k) {
+    EXPECT_EQ(rcs[k], 1) << others[k] << "\n" << logs[k];
+    EXPECT_NE(logs[k].find("another mp_patch_match_stereo run with other options"), std::string::npos)
+        << others[k] << "\n" << logs[k];
+  }
+  // Run A went on alone: the maps of one run with its options.
+  ASSERT_EQ(rc, 0) << test::ReadTextFile(tmp_ / "a.log");
   EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
 }
 
