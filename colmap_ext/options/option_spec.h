@@ -46,6 +46,9 @@ enum class OptionEffect {
   kResult,         // the maps: enters the state fingerprint and the concurrent-run check
   kResultWhenSet,  // as kResult, but enters the fingerprint only away from its default, so
                    // states written before the option existed stay valid
+  kInput,          // as kResult, through what it selects: the images' size, the depth range
+                   // or the sources, which each state's and map's inputs hash holds already;
+                   // it enters the run's fingerprint (store/result_fingerprint.h) only
   kRun,            // how the run goes (which images, resuming, pictures), not the maps
 };
 

@@ -105,11 +105,12 @@ std::string ResultOptionsText(const MpMvsOptions& options) {
   return s.str();
 }
 
-std::string ResultOptionsText(const PatchMatchStereoOptions& options) {
+std::string ResultOptionsText(const PatchMatchStereoOptions& options, bool include_inputs) {
   std::ostringstream s;
   s.precision(17);
   options.Visit([&](const OptionSpec& spec, const auto& value) {
-    if (spec.effect != OptionEffect::kRun) s << "PatchMatchStereo." << spec.name << " " << value << "\n";
+    if (spec.effect == OptionEffect::kRun || (spec.effect == OptionEffect::kInput && !include_inputs)) return;
+    s << "PatchMatchStereo." << spec.name << " " << value << "\n";
   });
   return s.str();
 }

@@ -15,12 +15,12 @@ namespace mpmvs {
 // COLMAP's PatchMatchStereo options that keep their COLMAP meaning.
 // X(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)
 #define MPMVS_COLMAP_OPTIONS(X)                                                                                        \
-  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kResult,                                                 \
+  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kInput,                                                 \
     "down-scale images so that max(width, height) <= this; -1 = full size")                                            \
   X(std::string, gpu_index, "-1", OptionRange::Any(), kRun,                                                            \
     "-1 = the first usable GPU, else the CPU backend; a GPU index (comma-separated list of integers >= -1)")           \
-  X(double, depth_min, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
-  X(double, depth_max, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
+  X(double, depth_min, -1, OptionRange::Any(), kInput, "-1 = from the sparse points")                                 \
+  X(double, depth_max, -1, OptionRange::Any(), kInput, "-1 = from the sparse points")                                 \
   X(bool, geom_consistency, true, OptionRange::Any(), kResult,                                                         \
     "run the geometric stages and write .geometric.bin")                                                               \
   X(bool, filter, false, OptionRange::Any(), kResult,                                                                  \
@@ -35,10 +35,10 @@ namespace mpmvs {
   X(double, cache_size, 32, OptionRange::Above(0), kRun, "GB of images and maps kept in memory")                       \
   X(bool, write_consistency_graph, false, OptionRange::Any(), kRun,                                                    \
     "write stereo/consistency_graphs/ beside the maps")                                                                \
-  X(bool, allow_missing_files, false, OptionRange::Any(), kResult,                                                     \
+  X(bool, allow_missing_files, false, OptionRange::Any(), kInput,                                                     \
     "drop sources whose image or maps are missing instead of failing")                                                 \
   X(int, num_threads, -1, OptionRange::MinusOneOrAbove(0), kRun, "CPU threads; -1 = all cores")                        \
-  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kResult,                                    \
+  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kInput,                                    \
     "degrees; the __auto__ source selection of patch-match.cfg")
 
 // COLMAP's PatchMatchStereo options that describe COLMAP's own algorithm: accepted and
@@ -205,7 +205,8 @@ std::string ResultOptionsText(const MpMvsOptions& options);
 // (store/result_fingerprint.h), on which runs sharing a workspace must agree. Not part of a
 // state's fingerprint: image size, depth range and sources enter each state's inputs hash,
 // and the output filter acts only on the final maps.
-std::string ResultOptionsText(const PatchMatchStereoOptions& options);
+// include_inputs false leaves out the options that act through the inputs (kInput).
+std::string ResultOptionsText(const PatchMatchStereoOptions& options, bool include_inputs = true);
 
 // docs/options.md: every option with its default, paper value, range and help.
 std::string OptionsMarkdown();

@@ -52,6 +52,8 @@ class Controller {
   void Start(MpPatchMatchSummary* summary);
   // Whether every reference of this process already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
+  // One line for this process's maps made with other options or inputs (recomputed).
+  void ReportMapsOfOtherOptions() const;
   void CreateOutputDirectories() const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   // Runs or resumes a prepared image, writes its state and maps, releases its claim.
@@ -113,7 +115,8 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
                " listed, all skipped as warned above); nothing written");
     return false;
   }
-  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, StateOptionsText(run_.options));
+  const ResultFingerprint fingerprint = MakeResultFingerprint(run_.colmap_options, run_.options, workspace_, problems_);
+  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, fingerprint);
   mine_ = SelectShard(workspace_, problems_, plan_.image_names, plan_.shard);
   if (plan_.Partial()) {
     std::string names;
@@ -132,14 +135,34 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
     return false;
   }
   // Before this run changes any file: a live run with other options refuses it.
-  claims_ = JoinWorkspace(plan_, workspace_,
-                          MakeResultFingerprint(run_.colmap_options, run_.options, workspace_, problems_).RunTag(),
-                          run_.workspace_path);
+  claims_ = JoinWorkspace(plan_, workspace_, fingerprint.RunTag(), run_.workspace_path);
   // Only this process's images: another process may be writing the others' maps.
   if (!plan_.overwrite) {
+    ReportMapsOfOtherOptions();
     for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
   }
   return true;
+}
+
+void Controller::ReportMapsOfOtherOptions() const {
+  int count = 0;
+  std::set<std::string> reasons;
+  for (size_t i : mine_) {
+    bool other = false;
+    for (const std::string& type : {std::string("photometric"), plan_.final_type}) {
+      const std::string why = store_->CheckFinalOutputs(problems_[i].ref, type).other_options;
+      if (!why.empty()) reasons.insert(why);
+      other = other || !why.empty();
+    }
+    count += other;
+  }
+  if (count == 0) return;
+  std::string why;
+  for (const std::string& reason : reasons) why += (why.empty() ? "" : "; ") + reason;
+  LogInfo(std::to_string(count) + " of " + std::to_string(mine_.size()) +
+          " reference images have maps made with other options (" + why +
+          "): recomputing them and the intermediate results in stereo/mpmvs they build on");
+  store_->SetOptionsChangeReported();
 }
 
 void Controller::Start(MpPatchMatchSummary* summary) {
@@ -257,13 +280,13 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
   }
   if (stage_index == plan_.pipeline.photometric_output &&
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {
-    WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
+    WriteFinalMaps(io_, *store_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
     if (plan_.final_type == "photometric") written_.insert(p.ref);
   }
   if (stage_index == plan_.pipeline.geometric_output) {
     kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_error_clamp, result);
-    WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
+    WriteFinalMaps(io_, *store_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
     written_.insert(p.ref);
   }

@@ -14,12 +14,13 @@ ResultFingerprint MakeResultFingerprint(const PatchMatchStereoOptions& colmap_op
                                         const std::vector<ReferenceProblem>& problems) {
   ResultFingerprint fingerprint;
   // StateOptionsText: its first line is the math revision, the others --MPMVS options.
-  std::istringstream state(StateOptionsText(options));
+  fingerprint.state_options = StateOptionsText(options);
+  std::istringstream state(fingerprint.state_options);
+  std::string method;
   std::string line;
-  for (bool first = true; std::getline(state, line); first = false) {
-    fingerprint.options += (first ? "" : "MPMVS.") + line + "\n";
-  }
-  fingerprint.options += ResultOptionsText(colmap_options);
+  for (bool first = true; std::getline(state, line); first = false) method += (first ? "" : "MPMVS.") + line + "\n";
+  fingerprint.options = method + ResultOptionsText(colmap_options);
+  fingerprint.maps_options = method + ResultOptionsText(colmap_options, false);
   for (const ReferenceProblem& p : problems) {
     char range[64];
     std::snprintf(range, sizeof(range), " %.9g %.9g", p.depth_min, p.depth_max);

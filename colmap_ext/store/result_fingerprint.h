@@ -15,7 +15,11 @@
 namespace mpmvs {
 
 struct ResultFingerprint {
+  std::string state_options;  // StateOptionsText: the options part of each state's fingerprint
   std::string options;   // "NAME VALUE" lines: math_revision, MPMVS.*, PatchMatchStereo.*
+  // The options without those that act through the inputs (kInput: image size, depth range,
+  // sources), which each image's inputs hash holds: a change of it recomputes every map.
+  std::string maps_options;
   std::string problems;  // one line per runnable reference: name, depth range, sources
   // The tag runs sharing a workspace must have in common (a hash of both texts).
   std::string RunTag() const;
