@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <unordered_map>
 
 #include "colmap_ext/util/error.h"
@@ -323,6 +324,17 @@ void CheckDenseWorkspaceFolders(const std::string& path) {
   }
 }
 
+void CheckImageNameStaysInside(const std::string& name, const std::string& images_path) {
+  bool climbs = name.empty() || name.front() == '/';
+  std::stringstream parts(name);
+  for (std::string part; std::getline(parts, part, '/');) climbs = climbs || part == "..";
+  if (climbs) {
+    ThrowFileError(images_path, "image '" + name + "' names a file outside the workspace (an absolute path or "
+                                "'..'); mp-mvs writes its maps under stereo/ by this name. Give it a name below "
+                                "images/ in the sparse model and move the file there");
+  }
+}
+
 DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
   CheckDenseWorkspaceFolders(path);
   DenseWorkspace workspace;
@@ -340,6 +352,7 @@ DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
   const std::string images_dir = JoinPaths(path, "images");
   for (const SparseImage& image : workspace.model.images) {
     const SparseCamera& camera = workspace.model.cameras[camera_index.at(image.camera_id)];
+    CheckImageNameStaysInside(image.name, images_path);
     CheckView(image, camera, cameras_path, images_path);
     DenseView view;
     view.name = image.name;

@@ -57,6 +57,11 @@ struct DenseWorkspace {
   RgbImage ReadRgb(int view) const;
 };
 
+// Maps and states are written under stereo/ by each image's name: it must be a path below
+// images/, relative and without ".." (which could also make two names one file). Throws
+// Error naming model_path otherwise.
+void CheckImageNameStaysInside(const std::string& name, const std::string& model_path);
+
 // Loads path/sparse (binary preferred) and checks images/ and stereo/ exist. Throws Error
 // (naming the file/folder) for a missing workspace or sub-folder, a corrupt model, or a
 // camera that is not SIMPLE_PINHOLE/PINHOLE ("... undistort the images first with colmap
