@@ -163,11 +163,26 @@ std::vector<ClaimHolder> WorkClaims::RegisterRun(const std::string& tag) {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
   const std::string key = "runs/" + self_.host + "." + std::to_string(self_.pid);
   if (TryClaim(key) != Result::kClaimed) ThrowFileError(ClaimPath(key), "cannot register this run");
-  const std::string own = std::filesystem::path(ClaimPath(key)).filename().string();
   const auto before = [](const ClaimHolder& a, const ClaimHolder& b) {
     return std::tie(a.created_ns, a.host, a.pid) < std::tie(b.created_ns, b.host, b.pid);
   };
   std::vector<ClaimHolder> earlier;
+  for (const ClaimHolder& other : OtherLiveRuns()) {
+    if (other.tag != tag && before(other, self_)) earlier.push_back(other);
+  }
+  std::sort(earlier.begin(), earlier.end(), before);
+  return earlier;
+}
+
+bool WorkClaims::AnotherRunShares() const {
+  const std::vector<ClaimHolder> others = OtherLiveRuns();
+  return std::any_of(others.begin(), others.end(), [&](const ClaimHolder& other) { return other.tag == self_.tag; });
+}
+
+std::vector<ClaimHolder> WorkClaims::OtherLiveRuns() const {
+  const std::string own =
+      std::filesystem::path(ClaimPath("runs/" + self_.host + "." + std::to_string(self_.pid))).filename().string();
+  std::vector<ClaimHolder> runs;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(JoinPaths(dir_, "runs"), ec)) {
     const std::string name = entry.path().filename().string();
@@ -175,10 +190,9 @@ std::vector<ClaimHolder> WorkClaims::RegisterRun(const std::string& tag) {
     struct stat st;
     ClaimHolder other;
     if (::stat(entry.path().c_str(), &st) != 0 || !ReadHolder(entry.path().string(), &other)) continue;
-    if (other.tag != tag && !IsStale(st, true, other) && before(other, self_)) earlier.push_back(other);
+    if (!IsStale(st, true, other)) runs.push_back(other);
   }
-  std::sort(earlier.begin(), earlier.end(), before);
-  return earlier;
+  return runs;
 }
 
 void WorkClaims::Release(const std::string& key) {

@@ -65,6 +65,8 @@ class WorkClaims {
   // (ordered by created_ns, then host and pid: every process agrees on the order). The
   // caller stops when the list is not empty; the earlier run goes on.
   std::vector<ClaimHolder> RegisterRun(const std::string& tag);
+  // Whether another live process has registered a run with this process's tag.
+  bool AnotherRunShares() const;
 
   std::string ClaimPath(const std::string& key) const;
   static std::string ThisHost();
@@ -73,6 +75,8 @@ class WorkClaims {
   void Heartbeat();
   // Whether the claim file at path (stat st; holder read if readable) belongs to a dead holder.
   bool IsStale(const struct stat& st, bool readable, const ClaimHolder& holder) const;
+  // The other live processes' run registrations.
+  std::vector<ClaimHolder> OtherLiveRuns() const;
 
   std::string dir_;
   int lease_seconds_;

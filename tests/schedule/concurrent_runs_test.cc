@@ -154,5 +154,53 @@ TEST_F(ConcurrentRuns, RunWithOtherColmapOptionsOrConfigIsRefusedWhileOneRuns) {
   EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
 }
 
+// Issue 35, defect 4: --MPMVS.image_list_path naming some images, run alone, waited forever
+// for results "that other processes compute". Alone (no other run with its options for
+// min(60 s, claim_lease)), it stops and says what to run; a killed wait releases its claims.
+TEST_F(ConcurrentRuns, ImageListRunAloneStopsSayingWhatToRun) {
+  test::WriteText(tmp_ / "list.txt", first_image_ + "\n");
+  const std::string cmd = "timeout 60 " + RunCommandLine(tmp_ / "shared") + " --MPMVS.image_list_path " +
+                          tmp_ / "list.txt" + " --MPMVS.claim_lease 3";
+  const auto start = std::chrono::steady_clock::now();
+  const int rc = test::RunCommand(cmd, tmp_ / "alone.log");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string log = test::ReadTextFile(tmp_ / "alone.log");
+  EXPECT_EQ(rc, 1) << log;
+  EXPECT_LT(seconds, 30) << log;
+  EXPECT_NE(log.find("no other mp_patch_match_stereo run with the same options"), std::string::npos) << log;
+  EXPECT_NE(log.find("without --MPMVS.image_list_path"), std::string::npos) << log;
+  int left = 0;
+  for (const auto& e : fs::recursive_directory_iterator(Claims())) left += e.is_regular_file();
+  EXPECT_EQ(left, 0) << log;
+
+  // The same list with the other images' run started beside it: both finish, the maps of one run.
+  test::RunCommand("rm -rf " + tmp_ / "shared/stereo/mpmvs");
+  const std::string list_run = RunCommandLine(tmp_ / "shared") + " --MPMVS.image_list_path " + tmp_ / "list.txt";
+  ASSERT_EQ(test::RunCommand("(" + list_run + " > " + tmp_ / "l.log" + " 2>&1 & " + RunCommandLine(tmp_ / "shared") +
+                             " > " + tmp_ / "all.log" + " 2>&1; r=$?; wait $! && exit $r)"),
+            0)
+      << test::ReadTextFile(tmp_ / "l.log") << test::ReadTextFile(tmp_ / "all.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+TEST_F(ConcurrentRuns, KilledWaitLeavesNoClaimBehind) {
+  WorkClaims other(Claims(), 600);  // holds the first image, so that the run waits for it
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  test::RunCommand(RunCommandLine(tmp_ / "shared") + " > " + tmp_ / "killed.log" + " 2>&1 & echo $! > " +
+                   tmp_ / "pid");
+  const bool waiting = WaitForText(tmp_ / "killed.log", "to finish stage photometric");
+  const std::string pid = "$(cat " + tmp_ / "pid" + ")";
+  test::RunCommand("kill -TERM " + pid + "; while kill -0 " + pid + " 2>/dev/null; do sleep 0.1; done");
+  EXPECT_TRUE(waiting) << test::ReadTextFile(tmp_ / "killed.log");
+  other.Release(first_image_ + ".photometric");
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(Claims())) {
+    if (e.is_regular_file()) left.push_back(e.path());
+  }
+  EXPECT_TRUE(left.empty()) << left.front() << "\n" << test::ReadTextFile(tmp_ / "killed.log");
+  EXPECT_NE(test::ReadTextFile(tmp_ / "killed.log").find("interrupted"), std::string::npos)
+      << test::ReadTextFile(tmp_ / "killed.log");
+}
+
 }  // namespace
 }  // namespace mpmvs
