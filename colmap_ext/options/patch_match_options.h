@@ -33,7 +33,7 @@ namespace mpmvs {
   X(double, filter_geom_consistency_max_cost, 1.0, OptionRange::Closed(0, 100), kResult,                               \
     "filter: maximum forward-backward reprojection error (px)")                                                        \
   X(double, cache_size, 32, OptionRange::Above(0), kRun,                                                               \
-    "GB of images and maps kept in memory; more than this machine's memory is clamped to it, with a warning")          \
+    "GB of images and maps kept in memory; more than this machine's memory is clamped to it")                          \
   X(bool, write_consistency_graph, false, OptionRange::Any(), kRun,                                                    \
     "write stereo/consistency_graphs/ beside the maps")                                                                \
   X(bool, allow_missing_files, false, OptionRange::Any(), kInput,                                                      \

@@ -50,14 +50,15 @@ int CappedThreads(int requested) {
   return max_threads;
 }
 
-// --PatchMatchStereo.cache_size in bytes, clamped to this machine's memory with a warning
-// (a bound on the caches, not an allocation: more than the memory only overflows).
+// --PatchMatchStereo.cache_size in bytes, clamped to this machine's memory (a bound on the
+// caches, not an allocation, but far more than the memory overflowed), with a warning unless
+// it is the default (COLMAP's 32 GB, more than many machines have).
 size_t CacheBytes(double cache_size_gb) {
   constexpr double kGb = 1024.0 * 1024.0 * 1024.0;
   const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
   const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 64 * kGb;
   if (cache_size_gb * kGb <= memory) return static_cast<size_t>(cache_size_gb * kGb);
-  LogWarning("--PatchMatchStereo.cache_size " + FormatNumber(cache_size_gb) + " capped to " +
+  if (cache_size_gb != PatchMatchStereoOptions().cache_size) LogWarning("--PatchMatchStereo.cache_size " + FormatNumber(cache_size_gb) + " capped to " +
              FormatNumber(std::floor(memory / kGb * 10) / 10) + " (GB of this machine's memory)");
   return static_cast<size_t>(memory);
 }
