@@ -13,6 +13,7 @@
 
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {
@@ -434,9 +435,11 @@ std::vector<StereoProblem> ReadPatchMatchConfig(const std::string& cfg_path,
         if (it == view_by_name.end()) {
           fail(line_number, "source image '" + name + "' is not in the sparse model");
         }
-        // A reference is never its own source; repeated names count once.
-        if (it->second != problem.ref &&
-            std::find(problem.src.begin(), problem.src.end(), it->second) == problem.src.end()) {
+        // A reference is never its own source (said so); repeated names count once.
+        if (it->second == problem.ref) {
+          LogWarning(cfg_path + ": line " + std::to_string(line_number) + ": reference '" + ref_name +
+                     "' lists itself as a source; ignored (an image is never its own source)");
+        } else if (std::find(problem.src.begin(), problem.src.end(), it->second) == problem.src.end()) {
           problem.src.push_back(it->second);
         }
       }

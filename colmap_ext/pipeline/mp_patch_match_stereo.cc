@@ -110,6 +110,7 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
   summary->num_skipped_missing_files = loaded.num_skipped_missing_files;
   summary->num_references = static_cast<int>(problems_.size()) + summary->num_skipped_no_sources +
                             summary->num_skipped_no_depth_range + summary->num_skipped_missing_files;
+  summary->num_not_references = static_cast<int>(workspace_.views.size()) - summary->num_references;
   if (problems_.empty()) {
     LogWarning("No reference image can run (" + std::to_string(summary->num_references) +
                " listed, all skipped as warned above); nothing written");

@@ -13,6 +13,32 @@ namespace {
 // Factors on COLMAP's sparse depth range: 0.75 -> 0.25 and 1.25 -> 2.
 constexpr double kSparseRangeWidening[2] = {0.25 / 0.75, 2.0 / 1.25};
 
+// The geometric stages read the sources' results: a source that patch-match.cfg does not
+// list as a reference has none. As COLMAP on missing source maps, an Error before any work;
+// with allow_missing_files such sources are left out of those stages, said once per image.
+void CheckSourcesAreReferences(const DenseWorkspace& workspace, const std::string& cfg, const std::set<int>& listed,
+                               const PatchMatchStereoOptions& colmap_options, ReferenceProblems* problems) {
+  std::set<int> missing;
+  std::string example;
+  for (const ReferenceProblem& p : problems->runnable) {
+    for (int src : p.src) {
+      if (listed.count(src) || !missing.insert(src).second || !example.empty()) continue;
+      example = "source " + workspace.views[src].name + " of " + workspace.views[p.ref].name;
+    }
+  }
+  if (missing.empty()) return;
+  std::string names;
+  for (int v : missing) names += (names.empty() ? "" : ", ") + workspace.views[v].name;
+  if (!colmap_options.allow_missing_files) {
+    ThrowFileError(cfg, std::to_string(missing.size()) + " source images are not listed as references (" + names +
+                            "; e.g. " + example + "), so the geometric stages have no results of theirs. List them "
+                            "as references too, or rerun with --PatchMatchStereo.allow_missing_files 1 to leave them "
+                            "out of the geometric stages");
+  }
+  LogWarning(cfg + ": " + std::to_string(missing.size()) + " source images are not listed as references (" + names +
+             "): left out of the geometric stages (--PatchMatchStereo.allow_missing_files)");
+}
+
 }  // namespace
 
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
@@ -83,6 +109,7 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
       problems.runnable.push_back(p);
     }
   }
+  if (colmap_options.geom_consistency) CheckSourcesAreReferences(workspace, cfg, listed, colmap_options, &problems);
   return problems;
 }
 

@@ -360,7 +360,10 @@ TEST(StaleOutputs, WrittenCountsEachReferenceOnceAndOnlyWithItsFinalMaps) {
     std::ofstream cfg(tmp / "stereo/patch-match.cfg");
     cfg << "view_00.png\n__all__\nview_01.png\n__all__\nview_00.png\n__all__\n";
   }
-  CapturedRun r = RunCaptured(SmallRun(tmp.path()));
+  // view_02, a source but no reference, is left out of the geometric stages (issue 35.5).
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.colmap_options.allow_missing_files = true;
+  CapturedRun r = RunCaptured(run);
   ASSERT_EQ(r.error, "") << r.log;
   EXPECT_EQ(r.summary.num_written, 2) << r.log;
   EXPECT_EQ(r.summary.num_references, 2);
@@ -381,6 +384,42 @@ TEST(StaleOutputs, WrittenCountsEachReferenceOnceAndOnlyWithItsFinalMaps) {
   EXPECT_FALSE(fs::exists(Depth(tmp2.path(), "view_00.png", "geometric")));
   EXPECT_FALSE(fs::exists(Depth(tmp2.path(), "view_02.png", "geometric")));
   EXPECT_EQ(r.summary.num_written, 0) << r.log;
+}
+
+// Issue 35, defect 5: a patch-match.cfg listing only some references. A source that is no
+// reference has no results for the geometric stages: as COLMAP on missing source maps, the
+// run stops before any work unless allow_missing_files leaves such sources out; a
+// reference listing itself is reported; the summary accounts for every image.
+TEST(StaleOutputs, ConfigWithSourcesThatAreNoReferencesStopsOrLeavesThemOutSaidSo) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  test::WriteText(tmp / "stereo/patch-match.cfg",
+                  "view_00.png\nview_01.png, view_02.png\nview_01.png\nview_01.png, view_00.png\n");
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  CapturedRun r = RunCaptured(run);
+  EXPECT_TRUE(Contains(r.error, "view_02.png")) << r.error << r.log;
+  EXPECT_TRUE(Contains(r.error, "allow_missing_files")) << r.error;
+  EXPECT_FALSE(fs::exists(Depth(tmp.path(), "view_00.png", "photometric")));
+
+  run.colmap_options.allow_missing_files = true;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "view_02.png")) << r.log;
+  EXPECT_EQ(r.summary.num_written, 2) << r.log;
+  EXPECT_EQ(r.summary.num_not_references, 1) << r.log;
+
+  // Without geometric stages nothing is missing.
+  test::TempDir tmp2;
+  test::WriteSmallPlaneScene(tmp2.path(), 64, 48, 3);
+  test::WriteText(tmp2 / "stereo/patch-match.cfg", "view_00.png\nview_00.png, view_01.png\n");
+  run = SmallRun(tmp2.path());
+  run.colmap_options.geom_consistency = false;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "lists itself as a source")) << r.log;
+  EXPECT_EQ(r.summary.num_written, 1);
+  EXPECT_EQ(r.summary.num_references, 1);
+  EXPECT_EQ(r.summary.num_not_references, 2);
 }
 
 TEST(StaleOutputs, WorkspacePathThatIsAFileIsCalledAFile) {
