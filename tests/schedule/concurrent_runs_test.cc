@@ -130,7 +130,11 @@ TEST_F(ConcurrentRuns, RunWithOtherColmapOptionsOrConfigIsRefusedWhileOneRuns) {
   int rc = -1;
   std::thread run_a([&] { rc = test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "a.log"); });
   const bool waiting = WaitForText(tmp_ / "a.log", "to finish stage photometric");
-  test::WriteText(tmp_ / "other.cfg", first_image_ + "\n__all__\n");
+  std::string other_cfg;  // every image, with at most two sources instead of __auto__, 20
+  for (const auto& e : fs::directory_iterator(tmp_ / "shared/images")) {
+    other_cfg += e.path().filename().string() + "\n__auto__, 2\n";
+  }
+  test::WriteText(tmp_ / "other.cfg", other_cfg);
   const std::vector<std::string> others = {"--PatchMatchStereo.max_image_size 48", "--PatchMatchStereo.filter 1",
                                            "--PatchMatchStereo.depth_min 0.5 --PatchMatchStereo.depth_max 50",
                                            "--config_path " + tmp_ / "other.cfg"};
