@@ -143,6 +143,17 @@ TEST(Cli, GenerateSceneRefusesAFolderInUseUnlessToldToOverwrite) {
   EXPECT_FALSE(fs::exists(other + "/images"));
 }
 
+// Issue 35, defect 8: compare with a folder that does not exist exited 0 with 0.0 figures.
+TEST(Cli, CompareRefusesAFolderThatIsNoWorkspace) {
+  test::TempDir tmp;
+  const std::string ws = tmp / "ws";
+  ASSERT_EQ(ColmapMp("generate_scene --scene plane --width 48 --height 36 --num_views 2 --output_path " + ws,
+                     tmp / "gen.log").code, 0);
+  const CliRun r = ColmapMp("compare --workspace_paths " + ws + "," + tmp / "typo", tmp / "compare.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(tmp / "typo"), std::string::npos) << r.output;
+}
+
 TEST(Cli, DemoRunsEndToEnd) {
   test::TempDir tmp;
   const std::string out = tmp / "demo";
