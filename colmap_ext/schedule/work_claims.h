@@ -11,7 +11,10 @@
 //
 // A claim is stale, and taken over, when its holder is dead:
 //   same host:  the pid does not exist, or belongs to a later process (other start time);
-//   other host: the mtime is older than the lease (the holder's heartbeat stopped).
+//   other host: the mtime is older than this process's lease (the holder's heartbeat
+//               stopped); the lease the file states is not used, so give every process of
+//               a workspace the same --MPMVS.claim_lease.
+// A file that is no readable claim is named, never printed, and judged by its mtime.
 // Takeover renames the stale file to a private name (atomic; only one process wins) and
 // checks it renamed the file it judged; then it claims as usual. Across hosts this relies
 // on clocks agreeing to well within the lease (mtime comes from the file server's clock,
