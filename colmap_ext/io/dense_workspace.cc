@@ -220,6 +220,8 @@ class AutoSourceSelector {
 void ComputeDepthRanges(DenseWorkspace* workspace) {
   const std::vector<std::vector<int>> tracks = TracksAsViewIndices(workspace->model);
   std::vector<std::vector<float>> depths(workspace->views.size());
+  std::vector<double> rounding(workspace->views.size(), 0);  // largest float rounding of a z
+  for (DenseView& view : workspace->views) view.num_sparse_points = 0;
   for (size_t p = 0; p < tracks.size(); ++p) {
     // COLMAP's arithmetic (mvs::Model::ComputeDepthRanges): float point, float camera,
     // Eigen's dot product order r6 x + (r7 y + r8 z), then + t_z. This file is compiled
@@ -233,6 +235,9 @@ void ComputeDepthRanges(DenseWorkspace* workspace) {
                   r8 = static_cast<float>(view.R[8]), tz = static_cast<float>(view.T[2]);
       const float z = r6 * X[0] + (r7 * X[1] + r8 * X[2]) + tz;
       if (z > 0) depths[view_idx].push_back(z);
+      ++workspace->views[view_idx].num_sparse_points;
+      const double magnitude = std::abs(Xd[0]) + std::abs(Xd[1]) + std::abs(Xd[2]) + std::abs(view.T[2]);
+      rounding[view_idx] = std::max(rounding[view_idx], magnitude * 6e-8);  // about 2^-24 each term
     }
   }
   for (size_t i = 0; i < depths.size(); ++i) {
@@ -249,6 +254,7 @@ void ComputeDepthRanges(DenseWorkspace* workspace) {
     };
     workspace->views[i].depth_min = z[index(0.01f)] * 0.75f;
     workspace->views[i].depth_max = z[index(0.99f)] * 1.25f;
+    workspace->views[i].depth_range_imprecise = rounding[i] > 0.1 * z[index(0.01f)];
   }
 }
 

@@ -27,6 +27,10 @@ struct DenseView {
   // image sees no point.
   double depth_min = -1;
   double depth_max = -1;
+  int num_sparse_points = 0;  // observations of sparse points (track entries of the image)
+  // The range above is not to be trusted: float rounding of the points' world coordinates
+  // reaches 10 % of the nearest depth (a model far from the origin, e.g. georeferenced).
+  bool depth_range_imprecise = false;
 };
 
 // A reference image and its source images (model image indices).

@@ -39,6 +39,18 @@ void CheckSourcesAreReferences(const DenseWorkspace& workspace, const std::strin
              "): left out of the geometric stages (--PatchMatchStereo.allow_missing_files)");
 }
 
+constexpr const char* kFarFromOrigin =
+    "COLMAP's single-precision arithmetic loses the depths of points this far from the world origin (move the "
+    "model's origin near the scene, e.g. with colmap model_transformer)";
+
+// Why a view has no depth range from the sparse points: it sees none, or float rounding.
+std::string NoDepthRangeReason(const DenseView& view) {
+  if (view.num_sparse_points == 0) return "it sees no sparse points";
+  return "it sees " + std::to_string(view.num_sparse_points) + " sparse points but " +
+         (view.depth_range_imprecise || view.depth_min <= 0 ? std::string(kFarFromOrigin)
+                                                            : std::string("none in front of the camera"));
+}
+
 }  // namespace
 
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
@@ -97,11 +109,15 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
       LogWarning("skipping " + view.name + ": no source images (patch-match.cfg / shared sparse points)");
       ++problems.num_skipped_no_sources;
     } else if (!(p.depth_min > 0 && p.depth_max > p.depth_min)) {
-      LogWarning("skipping " + view.name +
-                 ": it sees no sparse points, so its depth range is unknown; set "
-                 "--PatchMatchStereo.depth_min and --PatchMatchStereo.depth_max");
+      LogWarning("skipping " + view.name + ": " + NoDepthRangeReason(view) +
+                 ", so its depth range is unknown; set --PatchMatchStereo.depth_min and "
+                 "--PatchMatchStereo.depth_max");
       ++problems.num_skipped_no_depth_range;
     } else {
+      if (colmap_options.depth_min < 0 && view.depth_range_imprecise) {
+        LogWarning(view.name + ": its depth range from the sparse points is imprecise: " + kFarFromOrigin +
+                   "; set --PatchMatchStereo.depth_min and --PatchMatchStereo.depth_max");
+      }
       for (int src : p.src) {  // the kernels cope; name the sources that cannot help
         const std::string why = DegenerateSourceReason(view, workspace.views[src], p.depth_min, p.depth_max);
         if (!why.empty()) LogWarning(view.name + ": source " + workspace.views[src].name + " contributes little or nothing: " + why);
