@@ -56,9 +56,11 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
   }
   std::snprintf(line, sizeof(line),
                 "%d reference images: %d written, %d already done, %d skipped without source images, "
-                "%d skipped without depth range, %d skipped with missing files; backend %s",
+                "%d skipped without depth range, %d skipped with missing files; %d images of the model are no "
+                "reference (not in patch-match.cfg); backend %s",
                 s.num_references, s.num_written, s.num_already_done, s.num_skipped_no_sources,
-                s.num_skipped_no_depth_range, s.num_skipped_missing_files, s.backend.empty() ? "-" : s.backend.c_str());
+                s.num_skipped_no_depth_range, s.num_skipped_missing_files, s.num_not_references,
+                s.backend.empty() ? "-" : s.backend.c_str());
   LogInfo(line);
   return 0;
 }

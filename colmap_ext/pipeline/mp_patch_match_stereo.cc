@@ -17,6 +17,7 @@
 #include "colmap_ext/plan/shard.h"
 #include "colmap_ext/schedule/stage_scheduler.h"
 #include "colmap_ext/store/output_maps.h"
+#include "colmap_ext/store/result_fingerprint.h"
 #include "colmap_ext/store/stage_reference.h"
 #include "colmap_ext/store/stage_store.h"
 #include "colmap_ext/store/state_record.h"
@@ -71,6 +72,8 @@ class Controller {
   bool SideWorkFitsCache() const;
   // Whether every reference of this process already has its final maps (nothing to do).
   bool AllFinalMapsExist() const;
+  // One line for this process's maps made with other options or inputs (recomputed).
+  void ReportMapsOfOtherOptions() const;
   void CreateOutputDirectories() const;
   void RunStage(int stage_index, MpPatchMatchSummary* summary);
   // Runs or resumes a prepared image; a computed image's outputs are then pending.
@@ -95,6 +98,7 @@ class Controller {
   std::vector<size_t> mine_;                // positions in problems_ this process runs
   std::set<int> written_;                   // views whose final maps this run wrote
   std::unique_ptr<StageStore> store_;
+  std::unique_ptr<WorkClaims> claims_;  // this run's registration, until the scheduler takes it
   std::unique_ptr<StageScheduler> scheduler_;
   std::unique_ptr<Backend> backend_;
   struct Pending {  // a computed image whose outputs are not written yet
@@ -146,12 +150,14 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
   summary->num_skipped_missing_files = loaded.num_skipped_missing_files;
   summary->num_references = static_cast<int>(problems_.size()) + summary->num_skipped_no_sources +
                             summary->num_skipped_no_depth_range + summary->num_skipped_missing_files;
+  summary->num_not_references = static_cast<int>(workspace_.views.size()) - summary->num_references;
   if (problems_.empty()) {
     LogWarning("No reference image can run (" + std::to_string(summary->num_references) +
                " listed, all skipped as warned above); nothing written");
     return false;
   }
-  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, StateOptionsText(run_.options));
+  const ResultFingerprint fingerprint = MakeResultFingerprint(run_.colmap_options, run_.options, workspace_, problems_);
+  store_ = std::make_unique<StageStore>(workspace_, io_, plan_, problems_, fingerprint);
   mine_ = SelectShard(workspace_, problems_, plan_.image_names, plan_.shard);
   if (plan_.Partial()) {
     std::string names;
@@ -163,22 +169,45 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
     LogInfo("This shard has no reference images; nothing to do.");
     return false;
   }
-  // Only this process's images: another process may be writing the others' maps.
-  if (!plan_.overwrite) {
-    for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
-  }
   if (AllFinalMapsExist()) {
     summary->num_already_done = static_cast<int>(mine_.size());
     LogInfo("All " + std::to_string(mine_.size()) + " depth maps exist already (" + plan_.final_type +
             "); nothing to do. Use --MPMVS.overwrite 1 to recompute.");
     return false;
   }
+  // Before this run changes any file: a live run with other options refuses it.
+  claims_ = JoinWorkspace(plan_, workspace_, fingerprint.RunTag(), run_.workspace_path);
+  // Only this process's images: another process may be writing the others' maps.
+  if (!plan_.overwrite) {
+    ReportMapsOfOtherOptions();
+    for (size_t i : mine_) store_->MoveAsideDamagedFinalOutputs(problems_[i].ref);
+  }
   return true;
 }
 
+void Controller::ReportMapsOfOtherOptions() const {
+  int count = 0;
+  std::set<std::string> reasons;
+  for (size_t i : mine_) {
+    bool other = false;
+    for (const std::string& type : {std::string("photometric"), plan_.final_type}) {
+      const std::string why = store_->CheckFinalOutputs(problems_[i].ref, type).other_options;
+      if (!why.empty()) reasons.insert(why);
+      other = other || !why.empty();
+    }
+    count += other;
+  }
+  if (count == 0) return;
+  std::string why;
+  for (const std::string& reason : reasons) why += (why.empty() ? "" : "; ") + reason;
+  LogInfo(std::to_string(count) + " of " + std::to_string(mine_.size()) +
+          " reference images have maps made with other options (" + why +
+          "): recomputing them and the intermediate results in stereo/mpmvs they build on");
+  store_->SetOptionsChangeReported();
+}
+
 void Controller::Start(MpPatchMatchSummary* summary) {
-  scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_,
-                                                StateOptionsText(run_.options), run_.workspace_path);
+  scheduler_ = std::make_unique<StageScheduler>(plan_, workspace_, store_.get(), problems_, mine_, std::move(claims_));
   plan_.backend.cpu_side_work = plan_.backend.cpu_side_work && SideWorkFitsCache();
   summary->num_already_done += scheduler_->NumDone();
   backend_ = std::make_unique<Backend>(plan_.backend);
@@ -359,13 +388,13 @@ void Controller::WriteOutputs(int stage_index, const StageReference& ref, kernel
   }
   if (stage_index == plan_.pipeline.photometric_output &&
       (plan_.overwrite || !store_->FinalOutputsExist(p.ref, "photometric"))) {
-    WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
+    WriteFinalMaps(io_, *store_, workspace_, p, ref.pm, *result, "photometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
     if (plan_.final_type == "photometric") written_.insert(p.ref);
   }
   if (stage_index == plan_.pipeline.geometric_output) {
     kernels::InvalidateGeometricallyInconsistent(stage.schedule.geom_error_clamp, result);
-    WriteFinalMaps(io_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
+    WriteFinalMaps(io_, *store_, workspace_, p, ref.pm, *result, "geometric", plan_.write_consistency_graph,
                    plan_.write_pictures);
     written_.insert(p.ref);
   }

@@ -36,6 +36,7 @@ struct MpPatchMatchSummary {
   int num_skipped_no_sources = 0;
   int num_skipped_no_depth_range = 0;
   int num_skipped_missing_files = 0;  // --PatchMatchStereo.allow_missing_files
+  int num_not_references = 0;         // images of the model that patch-match.cfg does not list
   std::string backend;
   double seconds = 0;
   // Wall time outside the parallel work (the backend's runs and the depth check): loading,

@@ -1,5 +1,8 @@
 #include "colmap_ext/plan/run_plan.h"
 
+#include <unistd.h>
+
+#include <cmath>
 #include <sstream>
 
 #include "colmap_ext/util/error.h"
@@ -47,6 +50,19 @@ int CappedThreads(int requested) {
   return max_threads;
 }
 
+// --PatchMatchStereo.cache_size in bytes, clamped to this machine's memory (a bound on the
+// caches, not an allocation, but far more than the memory overflowed), with a warning unless
+// it is the default (COLMAP's 32 GB, more than many machines have).
+size_t CacheBytes(double cache_size_gb) {
+  constexpr double kGb = 1024.0 * 1024.0 * 1024.0;
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 64 * kGb;
+  if (cache_size_gb * kGb <= memory) return static_cast<size_t>(cache_size_gb * kGb);
+  if (cache_size_gb != PatchMatchStereoOptions().cache_size) LogWarning("--PatchMatchStereo.cache_size " + FormatNumber(cache_size_gb) + " capped to " +
+             FormatNumber(std::floor(memory / kGb * 10) / 10) + " (GB of this machine's memory)");
+  return static_cast<size_t>(memory);
+}
+
 // --MPMVS.stage as an index into the stages (-1: all); an error when this pipeline has no
 // such stage (e.g. prior with --MPMVS.planar_prior none).
 int FindStage(const PipelinePlan& pipeline, const std::string& name) {
@@ -71,7 +87,7 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.prior = MakePriorOptions(options);
   plan.filter = colmap_options.filter;
   plan.filter_params = MakeFilterParams(colmap_options);
-  plan.cache_bytes = static_cast<size_t>(colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
+  plan.cache_bytes = CacheBytes(colmap_options.cache_size);
   plan.num_threads = CappedThreads(colmap_options.num_threads);
   plan.backend.gpu_index = FirstGpuIndex(colmap_options.gpu_index);
   plan.backend.num_threads = plan.num_threads;
