@@ -161,6 +161,9 @@ void StageScheduler::AwaitInputs() const {
         // before). Another process computes every input a needed stage reads (needed_),
         // also of an image whose final maps exist.
         if (plan_.only_stage < 0 && ours) continue;
+        // With allow_missing_files a source without its result is left out (a warning
+        // where the image is prepared), as in a whole run; the image's own result is needed.
+        if (plan_.only_stage >= 0 && plan_.allow_missing_files && in.view != p.ref) continue;
         const std::string& name = plan_.pipeline.stages[in.stage].name;
         if (!store_->HasState(in.view, name)) missing.push_back(store_->StatePath(in.view, name));
       }
@@ -174,7 +177,8 @@ void StageScheduler::AwaitInputs() const {
     const std::string& stage = plan_.pipeline.stages[stage_].name;
     if (plan_.only_stage >= 0) {
       throw Error("--MPMVS.stage " + stage + " needs the results of the previous stage for all images and "
-                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first):" + list);
+                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first, or "
+                  "leave sources without them out with --PatchMatchStereo.allow_missing_files 1):" + list);
     }
     const auto now = std::chrono::steady_clock::now();
     if (claims_->AnotherRunShares()) last_company = now;
