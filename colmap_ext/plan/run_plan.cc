@@ -98,6 +98,7 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.overwrite = options.overwrite;
   plan.write_pictures = options.write_pictures;
   plan.write_consistency_graph = colmap_options.write_consistency_graph;
+  plan.allow_missing_files = colmap_options.allow_missing_files;
   plan.shard = ParseShard(options.shard);
   if (!options.image_list_path.empty()) {
     plan.image_names = ReadImageList(options.image_list_path);

@@ -29,6 +29,7 @@ struct RunPlan {
   bool overwrite = false;
   bool write_pictures = false;
   bool write_consistency_graph = false;
+  bool allow_missing_files = false;  // also: a source's missing stage result is left out
   // Which part of the work this process does (plan/shard.h, schedule/work_claims.h).
   ShardSpec shard;
   std::vector<std::string> image_names;  // --MPMVS.image_list_path ("": all)

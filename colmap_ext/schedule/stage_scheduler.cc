@@ -32,15 +32,17 @@ class InterruptibleWait {
     ::sigaction(SIGINT, &action, &old_int_);
     ::sigaction(SIGTERM, &action, &old_term_);
   }
+  // A signal that came after the last check acts as it would have without the wait.
   ~InterruptibleWait() {
     ::sigaction(SIGINT, &old_int_, nullptr);
     ::sigaction(SIGTERM, &old_term_, nullptr);
+    if (const int signal = g_wait_signal.exchange(0)) ::raise(signal);
   }
   InterruptibleWait(const InterruptibleWait&) = delete;
   InterruptibleWait& operator=(const InterruptibleWait&) = delete;
 
   void ThrowIfInterrupted(const std::string& what) const {
-    const int signal = g_wait_signal.load();
+    const int signal = g_wait_signal.exchange(0);
     if (signal != 0) {
       throw Error("interrupted (" + std::string(signal == SIGINT ? "SIGINT" : "SIGTERM") + ") while " + what +
                   "; this process's claims are released");
@@ -148,7 +150,7 @@ void StageScheduler::AwaitInputs() const {
   const auto start = std::chrono::steady_clock::now();
   auto last_company = start;  // when another run with this run's options was last seen
   const double alone_limit = std::min(kAloneSeconds, plan_.claim_lease_seconds);
-  const InterruptibleWait interruptible;
+  std::unique_ptr<InterruptibleWait> interruptible;  // while waiting
   double next_report = 0;
   for (;;) {
     std::vector<std::string> missing;
@@ -161,6 +163,9 @@ void StageScheduler::AwaitInputs() const {
         // before). Another process computes every input a needed stage reads (needed_),
         // also of an image whose final maps exist.
         if (plan_.only_stage < 0 && ours) continue;
+        // With allow_missing_files a source without its result is left out (a warning
+        // where the image is prepared), as in a whole run; the image's own result is needed.
+        if (plan_.only_stage >= 0 && plan_.allow_missing_files && in.view != p.ref) continue;
         const std::string& name = plan_.pipeline.stages[in.stage].name;
         if (!store_->HasState(in.view, name)) missing.push_back(store_->StatePath(in.view, name));
       }
@@ -174,7 +179,8 @@ void StageScheduler::AwaitInputs() const {
     const std::string& stage = plan_.pipeline.stages[stage_].name;
     if (plan_.only_stage >= 0) {
       throw Error("--MPMVS.stage " + stage + " needs the results of the previous stage for all images and "
-                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first):" + list);
+                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first, or "
+                  "leave sources without them out with --PatchMatchStereo.allow_missing_files 1):" + list);
     }
     const auto now = std::chrono::steady_clock::now();
     if (claims_->AnotherRunShares()) last_company = now;
@@ -192,9 +198,9 @@ void StageScheduler::AwaitInputs() const {
               " results that other processes compute:" + list);
       next_report += 60;
     }
-    interruptible.ThrowIfInterrupted("waiting for the results of stage " + plan_.pipeline.stages[stage_].name);
+    if (!interruptible) interruptible = std::make_unique<InterruptibleWait>();
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    interruptible.ThrowIfInterrupted("waiting for the results of stage " + plan_.pipeline.stages[stage_].name);
+    interruptible->ThrowIfInterrupted("waiting for the results of stage " + stage);
   }
 }
 
@@ -216,8 +222,8 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
       if (!told) LogInfo(name + ": waiting for " + holder.Describe() + " to finish stage " + stage);
       told = true;
       if (!interruptible) interruptible = std::make_unique<InterruptibleWait>();
-      interruptible->ThrowIfInterrupted("waiting for " + holder.Describe() + " to finish stage " + stage + " of " + name);
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      interruptible->ThrowIfInterrupted("waiting for " + holder.Describe() + " to finish stage " + stage + " of " + name);
     }
   }
   return PrepareStageReference(plan_, workspace_, store_, stage_, p, done_[i], needed_[i][stage_]);

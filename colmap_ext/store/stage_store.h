@@ -42,6 +42,9 @@ class StageStore {
   StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const RunPlan& plan,
              const std::vector<ReferenceProblem>& problems, const ResultFingerprint& fingerprint);
 
+  // Whether the view runs (has stage results at all); a source that does not was reported
+  // when the run was planned.
+  bool Runs(int view) const { return problems_.count(view) > 0; }
   std::string StatePath(int view, const std::string& stage) const;
   std::string StateRecordPath(int view, const std::string& stage) const;
   // Whether the stage's result of the view can be used: the view runs, and its state file

@@ -422,6 +422,30 @@ TEST(StaleOutputs, ConfigWithSourcesThatAreNoReferencesStopsOrLeavesThemOutSaidS
   EXPECT_EQ(r.summary.num_not_references, 2);
 }
 
+// Issue 35, defect 8: in a single-stage run a source's missing result of the previous stage
+// was an error even with allow_missing_files, which in a whole run leaves such sources out.
+TEST(StaleOutputs, AllowMissingFilesLeavesOutASourceWithoutItsResultInAStageRun) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.options.stage = "photometric";
+  ASSERT_EQ(RunCaptured(run).error, "");
+  fs::remove(tmp / "stereo/mpmvs/view_02.png.photometric.state.bin");
+  // The stage for view_00 and view_01, whose own inputs are there; view_02 is their source.
+  test::WriteText(tmp / "list.txt", "view_00.png\nview_01.png\n");
+  run.options.image_list_path = tmp / "list.txt";
+  run.options.stage = "geometric1";
+  CapturedRun r = RunCaptured(run);
+  EXPECT_TRUE(Contains(r.error, "view_02.png.photometric.state.bin")) << r.error << r.log;
+  EXPECT_TRUE(Contains(r.error, "allow_missing_files")) << r.error;
+
+  run.colmap_options.allow_missing_files = true;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "source view_02.png has no photometric result")) << r.log;
+  EXPECT_TRUE(fs::exists(tmp / "stereo/mpmvs/view_00.png.geometric1.state.bin")) << r.log;
+}
+
 TEST(StaleOutputs, WorkspacePathThatIsAFileIsCalledAFile) {
   test::TempDir tmp;
   test::WriteText(tmp / "ws", "not a folder");
