@@ -103,6 +103,13 @@ int RunCompareCommand(const std::vector<std::string>& args) {
   options.Check();
   const std::vector<std::string> workspaces = SplitList(workspace_paths);
   if (workspaces.empty()) throw Error("--workspace_paths lists no workspace");
+  // A missing folder would score as an empty workspace (0.0 everywhere) and exit 0.
+  for (const std::string& w : workspaces) {
+    if (!DirectoryExists(JoinPaths(w, "stereo/depth_maps"))) {
+      ThrowFileError(w, "is not a dense workspace with depth maps (no folder stereo/depth_maps); check "
+                        "--workspace_paths");
+    }
+  }
   std::vector<std::string> labels = SplitList(labels_text);
   if (!labels.empty() && labels.size() != workspaces.size()) {
     throw Error("--labels has " + std::to_string(labels.size()) + " names for " +

@@ -1,4 +1,5 @@
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 
 #include "colmap_ext/cli/command_util.h"
@@ -6,10 +7,13 @@
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 // The --scene value, if given: the other options' defaults depend on it.
 std::string SceneArgument(const std::vector<std::string>& args) {
@@ -19,6 +23,27 @@ std::string SceneArgument(const std::vector<std::string>& args) {
     if (args[i].rfind("--scene=", 0) == 0) scene = args[i].substr(8);
   }
   return scene;
+}
+
+// A non-empty output folder holds an earlier scene or workspace whose maps the next run
+// would trust beside the new images: refused, unless it is an earlier generated scene
+// (gt/scene_info.json) and overwrite is given, which removes it first.
+void PrepareOutputFolder(const std::string& output_path, bool overwrite) {
+  std::error_code ec;
+  if (!fs::exists(output_path, ec) || fs::is_empty(output_path, ec)) return;
+  if (!fs::is_directory(output_path, ec)) throw Error(output_path + ": is a file, not a folder");
+  const bool earlier_scene = FileExists(JoinPaths(output_path, "gt/scene_info.json"));
+  if (!earlier_scene) {
+    throw Error(output_path + ": is not empty and holds no scene of generate_scene (" +
+                (DirectoryExists(JoinPaths(output_path, "stereo")) ? "it has a stereo/ folder" : "other files") +
+                "); choose another --output_path");
+  }
+  if (!overwrite) {
+    throw Error(output_path + ": holds an earlier generated scene (and any maps computed on it); choose "
+                "another --output_path, or add --overwrite 1 to delete it and generate the new scene there");
+  }
+  LogInfo("Removing the earlier scene in " + output_path + " (--overwrite 1)");
+  fs::remove_all(output_path);
 }
 
 }  // namespace
@@ -31,7 +56,9 @@ int RunGenerateSceneCommand(const std::vector<std::string>& args) {
   for (const std::string& name : SyntheticSceneNames()) {
     scene_names += (scene_names.empty() ? "" : ", ") + name;
   }
-  parser.AddRequired("output_path", &output_path, "folder of the new dense workspace + gt/");
+  bool overwrite = false;
+  parser.AddRequired("output_path", &output_path, "folder of the new dense workspace + gt/ (empty or new)");
+  parser.Add("overwrite", &overwrite, "replace an earlier generated scene in output_path, with any maps on it");
   parser.Add("scene", &options.scene,
              scene_names + " (defaults below are this scene's; the rooms default to 640x480, "
                            "10 views, SIFT sparse points)");
@@ -62,6 +89,7 @@ int RunGenerateSceneCommand(const std::vector<std::string>& args) {
     return 0;
   }
   options.Check();
+  PrepareOutputFolder(output_path, overwrite);
   const auto start = std::chrono::steady_clock::now();
   const SyntheticScene scene = GenerateSyntheticScene(options, output_path);
   const double seconds =

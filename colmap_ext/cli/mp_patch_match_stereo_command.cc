@@ -35,6 +35,14 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
   const MpPatchMatchSummary s = RunMpPatchMatchStereo(run, io);
   LogHeading("mp_patch_match_stereo finished in " + FormatDuration(s.seconds));
   char line[512];
+  if (s.seconds > 0) {
+    std::snprintf(line, sizeof(line),
+                  "%.1f s wall, %.1f s CPU (%.2f cores busy); %.2f s (%.1f %%) outside the parallel work "
+                  "(loading, planning, writing between images)",
+                  s.seconds, s.cpu_seconds, s.cpu_seconds / s.seconds, s.serial_seconds,
+                  100 * s.serial_seconds / s.seconds);
+    LogInfo(line);
+  }
   for (const StageSummary& st : s.stages) {
     // A cost sample: one of a window's 36 points matched in one source view.
     const double samples = static_cast<double>(st.ncc_evaluations) * kernels::kWindowSamples;
@@ -48,9 +56,11 @@ int RunMpPatchMatchStereoCommandWithIo(const std::vector<std::string>& args, Wor
   }
   std::snprintf(line, sizeof(line),
                 "%d reference images: %d written, %d already done, %d skipped without source images, "
-                "%d skipped without depth range, %d skipped with missing files; backend %s",
+                "%d skipped without depth range, %d skipped with missing files; %d images of the model are no "
+                "reference (not in patch-match.cfg); backend %s",
                 s.num_references, s.num_written, s.num_already_done, s.num_skipped_no_sources,
-                s.num_skipped_no_depth_range, s.num_skipped_missing_files, s.backend.empty() ? "-" : s.backend.c_str());
+                s.num_skipped_no_depth_range, s.num_skipped_missing_files, s.num_not_references,
+                s.backend.empty() ? "-" : s.backend.c_str());
   LogInfo(line);
   if (s.intermediate_peak_bytes > 0) {
     std::snprintf(line, sizeof(line), "stereo/mpmvs: peak %.1f MB, now %.1f MB (%s)", s.intermediate_peak_bytes / 1e6,

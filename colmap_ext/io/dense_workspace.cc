@@ -8,10 +8,12 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <unordered_map>
 
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
 namespace {
@@ -218,6 +220,8 @@ class AutoSourceSelector {
 void ComputeDepthRanges(DenseWorkspace* workspace) {
   const std::vector<std::vector<int>> tracks = TracksAsViewIndices(workspace->model);
   std::vector<std::vector<float>> depths(workspace->views.size());
+  std::vector<double> rounding(workspace->views.size(), 0);  // largest float rounding of a z
+  for (DenseView& view : workspace->views) view.num_sparse_points = 0;
   for (size_t p = 0; p < tracks.size(); ++p) {
     // COLMAP's arithmetic (mvs::Model::ComputeDepthRanges): float point, float camera,
     // Eigen's dot product order r6 x + (r7 y + r8 z), then + t_z. This file is compiled
@@ -231,6 +235,9 @@ void ComputeDepthRanges(DenseWorkspace* workspace) {
                   r8 = static_cast<float>(view.R[8]), tz = static_cast<float>(view.T[2]);
       const float z = r6 * X[0] + (r7 * X[1] + r8 * X[2]) + tz;
       if (z > 0) depths[view_idx].push_back(z);
+      ++workspace->views[view_idx].num_sparse_points;
+      const double magnitude = std::abs(Xd[0]) + std::abs(Xd[1]) + std::abs(Xd[2]) + std::abs(view.T[2]);
+      rounding[view_idx] = std::max(rounding[view_idx], magnitude * 6e-8);  // about 2^-24 each term
     }
   }
   for (size_t i = 0; i < depths.size(); ++i) {
@@ -247,6 +254,7 @@ void ComputeDepthRanges(DenseWorkspace* workspace) {
     };
     workspace->views[i].depth_min = z[index(0.01f)] * 0.75f;
     workspace->views[i].depth_max = z[index(0.99f)] * 1.25f;
+    workspace->views[i].depth_range_imprecise = rounding[i] > 0.1 * z[index(0.01f)];
   }
 }
 
@@ -323,6 +331,17 @@ void CheckDenseWorkspaceFolders(const std::string& path) {
   }
 }
 
+void CheckImageNameStaysInside(const std::string& name, const std::string& images_path) {
+  bool climbs = name.empty() || name.front() == '/';
+  std::stringstream parts(name);
+  for (std::string part; std::getline(parts, part, '/');) climbs = climbs || part == "..";
+  if (climbs) {
+    ThrowFileError(images_path, "image '" + name + "' names a file outside the workspace (an absolute path or "
+                                "'..'); mp-mvs writes its maps under stereo/ by this name. Give it a name below "
+                                "images/ in the sparse model and move the file there");
+  }
+}
+
 DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
   CheckDenseWorkspaceFolders(path);
   DenseWorkspace workspace;
@@ -340,6 +359,7 @@ DenseWorkspace LoadDenseWorkspace(const std::string& path, int max_image_size) {
   const std::string images_dir = JoinPaths(path, "images");
   for (const SparseImage& image : workspace.model.images) {
     const SparseCamera& camera = workspace.model.cameras[camera_index.at(image.camera_id)];
+    CheckImageNameStaysInside(image.name, images_path);
     CheckView(image, camera, cameras_path, images_path);
     DenseView view;
     view.name = image.name;
@@ -421,9 +441,11 @@ std::vector<StereoProblem> ReadPatchMatchConfig(const std::string& cfg_path,
         if (it == view_by_name.end()) {
           fail(line_number, "source image '" + name + "' is not in the sparse model");
         }
-        // A reference is never its own source; repeated names count once.
-        if (it->second != problem.ref &&
-            std::find(problem.src.begin(), problem.src.end(), it->second) == problem.src.end()) {
+        // A reference is never its own source (said so); repeated names count once.
+        if (it->second == problem.ref) {
+          LogWarning(cfg_path + ": line " + std::to_string(line_number) + ": reference '" + ref_name +
+                     "' lists itself as a source; ignored (an image is never its own source)");
+        } else if (std::find(problem.src.begin(), problem.src.end(), it->second) == problem.src.end()) {
           problem.src.push_back(it->second);
         }
       }

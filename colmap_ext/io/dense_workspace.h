@@ -27,6 +27,10 @@ struct DenseView {
   // image sees no point.
   double depth_min = -1;
   double depth_max = -1;
+  int num_sparse_points = 0;  // observations of sparse points (track entries of the image)
+  // The range above is not to be trusted: float rounding of the points' world coordinates
+  // reaches 10 % of the nearest depth (a model far from the origin, e.g. georeferenced).
+  bool depth_range_imprecise = false;
 };
 
 // A reference image and its source images (model image indices).
@@ -56,6 +60,11 @@ struct DenseWorkspace {
   // The same as colour (grey files give R = G = B).
   RgbImage ReadRgb(int view) const;
 };
+
+// Maps and states are written under stereo/ by each image's name: it must be a path below
+// images/, relative and without ".." (which could also make two names one file). Throws
+// Error naming model_path otherwise.
+void CheckImageNameStaysInside(const std::string& name, const std::string& model_path);
 
 // Loads path/sparse (binary preferred) and checks images/ and stereo/ exist. Throws Error
 // (naming the file/folder) for a missing workspace or sub-folder, a corrupt model, or a

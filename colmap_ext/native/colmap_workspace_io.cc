@@ -101,6 +101,7 @@ class ColmapWorkspaceIo : public WorkspaceIo {
       const colmap::mvs::Image& image = model.images[i];
       DenseView view;
       view.name = model.GetImageName(static_cast<int>(i));
+      CheckImageNameStaysInside(view.name, sparse_dir);
       view.image_path = PathString(workspace->GetBitmapPath(static_cast<int>(i)));
       view.width = static_cast<int>(image.GetWidth());
       view.height = static_cast<int>(image.GetHeight());

@@ -19,11 +19,13 @@ std::vector<std::string> Words(const char* text) {
 }  // namespace
 
 bool OptionRange::Allows(double v) const {
+  if (or_minus_one && v == -1) return true;
   switch (kind) {
     case Kind::kAny: return true;
     case Kind::kClosed: return v >= lo && v <= hi;
     case Kind::kOpen: return v > lo && v < hi;
     case Kind::kClosedOpen: return v >= lo && v < hi;
+    case Kind::kOpenClosed: return v > lo && v <= hi;
     case Kind::kAtLeast: return v >= lo;
     case Kind::kAbove: return v > lo;
     case Kind::kMinusOneOrAbove: return v == -1 || v > lo;
@@ -43,11 +45,17 @@ bool OptionRange::Allows(const std::string& value) const {
 }
 
 std::string OptionRange::Text() const {
+  if (or_minus_one) {
+    OptionRange base = *this;
+    base.or_minus_one = false;
+    return "-1 or " + base.Text();
+  }
   switch (kind) {
     case Kind::kAny: return "";
     case Kind::kClosed: return "in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]";
     case Kind::kOpen: return "in (" + FormatNumber(lo) + ", " + FormatNumber(hi) + ")";
     case Kind::kClosedOpen: return "in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + ")";
+    case Kind::kOpenClosed: return "in (" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]";
     case Kind::kAtLeast: return ">= " + FormatNumber(lo);
     case Kind::kAbove: return "> " + FormatNumber(lo);
     case Kind::kMinusOneOrAbove: return "-1 or > " + FormatNumber(lo);

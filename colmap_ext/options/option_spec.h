@@ -12,6 +12,7 @@ struct OptionRange {
     kClosed,          // lo <= v <= hi
     kOpen,            // lo < v < hi
     kClosedOpen,      // lo <= v < hi
+    kOpenClosed,      // lo < v <= hi
     kAtLeast,         // v >= lo
     kAbove,           // v > lo
     kMinusOneOrAbove, // v == -1 or v > lo
@@ -22,14 +23,22 @@ struct OptionRange {
   double lo = 0, hi = 0;
   const char* text = "";
   bool choices = false;
+  bool or_minus_one = false;  // -1 ("automatic") is allowed too
 
   static constexpr OptionRange Any() { return {}; }
   static constexpr OptionRange Closed(double lo, double hi) { return {Kind::kClosed, lo, hi}; }
   static constexpr OptionRange Open(double lo, double hi) { return {Kind::kOpen, lo, hi}; }
   static constexpr OptionRange ClosedOpen(double lo, double hi) { return {Kind::kClosedOpen, lo, hi}; }
+  static constexpr OptionRange OpenClosed(double lo, double hi) { return {Kind::kOpenClosed, lo, hi}; }
   static constexpr OptionRange AtLeast(double lo) { return {Kind::kAtLeast, lo, 0}; }
   static constexpr OptionRange Above(double lo) { return {Kind::kAbove, lo, 0}; }
   static constexpr OptionRange MinusOneOrAbove(double lo) { return {Kind::kMinusOneOrAbove, lo, 0}; }
+  // This range, or -1.
+  constexpr OptionRange OrMinusOne() const {
+    OptionRange r = *this;
+    r.or_minus_one = true;
+    return r;
+  }
   // "a|b|c": exactly one of these words.
   static constexpr OptionRange OneOf(const char* words) { return {Kind::kText, 0, 0, words, true}; }
   // Any non-empty text; `what` describes it in messages.
@@ -46,6 +55,9 @@ enum class OptionEffect {
   kResult,         // the maps: enters the state fingerprint and the concurrent-run check
   kResultWhenSet,  // as kResult, but enters the fingerprint only away from its default, so
                    // states written before the option existed stay valid
+  kInput,          // as kResult, through what it selects: the images' size, the depth range
+                   // or the sources, which each state's and map's inputs hash holds already;
+                   // it enters the run's fingerprint (store/result_fingerprint.h) only
   kRun,            // how the run goes (which images, resuming, pictures), not the maps
 };
 

@@ -113,6 +113,16 @@ std::string ResultOptionsText(const MpMvsOptions& options) {
   return s.str();
 }
 
+std::string ResultOptionsText(const PatchMatchStereoOptions& options, bool include_inputs) {
+  std::ostringstream s;
+  s.precision(17);
+  options.Visit([&](const OptionSpec& spec, const auto& value) {
+    if (spec.effect == OptionEffect::kRun || (spec.effect == OptionEffect::kInput && !include_inputs)) return;
+    s << "PatchMatchStereo." << spec.name << " " << value << "\n";
+  });
+  return s.str();
+}
+
 std::string OptionsMarkdown() {
   std::ostringstream md;
   md << "# Options of mp_patch_match_stereo\n\n"
@@ -128,12 +138,15 @@ std::string OptionsMarkdown() {
        << " | " << MarkdownCell(spec.help) << " |\n";
   });
   md << "\n## COLMAP's PatchMatchStereo options\n\n"
-        "Accepted under COLMAP's names and with COLMAP's meaning.\n\n"
-        "| option | default | range | meaning |\n|---|---|---|---|\n";
+        "Accepted under COLMAP's names and with COLMAP's meaning. \"result\": the option changes the maps\n"
+        "(docs/colmap_interface.md §5: two runs on one workspace at once must agree on it; a later run with\n"
+        "another value recomputes what it changes).\n\n"
+        "| option | default | range | effect | meaning |\n|---|---|---|---|---|\n";
   PatchMatchStereoOptions colmap;
   colmap.Visit([&](const OptionSpec& spec, const auto& value) {
     md << "| `--PatchMatchStereo." << spec.name << "` | " << MarkdownCell(ValueText(value)) << " | "
-       << MarkdownCell(spec.range.Text()) << " | " << MarkdownCell(spec.help) << " |\n";
+       << MarkdownCell(spec.range.Text()) << " | " << (spec.effect == OptionEffect::kRun ? "run" : "result") << " | "
+       << MarkdownCell(spec.help) << " |\n";
   });
   md << "\nAccepted for COLMAP compatibility and ignored with a warning (they describe COLMAP's own "
         "algorithm):\n\n";

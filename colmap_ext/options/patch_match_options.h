@@ -31,12 +31,12 @@ namespace mpmvs {
 // COLMAP's PatchMatchStereo options that keep their COLMAP meaning.
 // X(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)
 #define MPMVS_COLMAP_OPTIONS(X)                                                                                        \
-  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kResult,                                                 \
+  X(int, max_image_size, -1, OptionRange::MinusOneOrAbove(0), kInput,                                                  \
     "down-scale images so that max(width, height) <= this; -1 = full size")                                            \
   X(std::string, gpu_index, "-1", OptionRange::Any(), kRun,                                                            \
     "-1 = the first usable GPU, else the CPU backend; a GPU index (comma-separated list of integers >= -1)")           \
-  X(double, depth_min, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
-  X(double, depth_max, -1, OptionRange::Any(), kResult, "-1 = from the sparse points")                                 \
+  X(double, depth_min, -1, OptionRange::OpenClosed(1e-6, 1e10).OrMinusOne(), kInput, "-1 = from the sparse points")    \
+  X(double, depth_max, -1, OptionRange::OpenClosed(1e-6, 1e10).OrMinusOne(), kInput, "-1 = from the sparse points")    \
   X(bool, geom_consistency, true, OptionRange::Any(), kResult,                                                         \
     "run the geometric stages and write .geometric.bin")                                                               \
   X(bool, filter, false, OptionRange::Any(), kResult,                                                                  \
@@ -46,17 +46,18 @@ namespace mpmvs {
   X(double, filter_min_ncc, 0.1, OptionRange::Closed(-1, 1), kResult, "filter: minimum NCC")                           \
   X(double, filter_min_triangulation_angle, 3.0, OptionRange::Closed(0, 180), kResult,                                 \
     "filter: minimum triangulation angle (degrees)")                                                                   \
-  X(int, filter_min_num_consistent, 2, OptionRange::AtLeast(0), kResult,                                               \
+  X(int, filter_min_num_consistent, 2, OptionRange::Closed(0, 32), kResult,                                            \
     "filter: minimum number of consistent source views")                                                               \
-  X(double, filter_geom_consistency_max_cost, 1.0, OptionRange::AtLeast(0), kResult,                                   \
+  X(double, filter_geom_consistency_max_cost, 1.0, OptionRange::Closed(0, 100), kResult,                               \
     "filter: maximum forward-backward reprojection error (px)")                                                        \
-  X(double, cache_size, 32, OptionRange::Above(0), kRun, "GB of images and maps kept in memory")                       \
+  X(double, cache_size, 32, OptionRange::Above(0), kRun,                                                               \
+    "GB of images and maps kept in memory; more than this machine's memory is clamped to it")                          \
   X(bool, write_consistency_graph, false, OptionRange::Any(), kRun,                                                    \
     "write stereo/consistency_graphs/ beside the maps")                                                                \
-  X(bool, allow_missing_files, false, OptionRange::Any(), kResult,                                                     \
+  X(bool, allow_missing_files, false, OptionRange::Any(), kInput,                                                      \
     "drop sources whose image or maps are missing instead of failing")                                                 \
   X(int, num_threads, -1, OptionRange::MinusOneOrAbove(0), kRun, "CPU threads; -1 = all cores")                        \
-  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kResult,                                    \
+  X(double, min_triangulation_angle, 1.0, OptionRange::ClosedOpen(0, 180), kInput,                                     \
     "degrees; the __auto__ source selection of patch-match.cfg")
 
 // COLMAP's PatchMatchStereo options that describe COLMAP's own algorithm: accepted and
@@ -81,27 +82,28 @@ namespace mpmvs {
 #define MPMVS_METHOD_OPTIONS(X)                                                                                        \
   X(int, max_window_scale, 2, 1, 2, OptionRange::Closed(0, 4), kResult,                                                \
     "mPM: windows of 2^S*10+1 px for S = max..0 (41, 21, 11 px), 6x6 samples each; 0 = single 11 px window")           \
-  X(int, iterations_per_scale, 3, 2, 3, OptionRange::AtLeast(1), kResult,                                              \
+  X(int, iterations_per_scale, 3, 2, 3, OptionRange::Closed(1, 100), kResult,                                          \
     "photometric iterations per window scale (tau restarts at each scale)")                                            \
   X(bool, distant_sampling, true, true, true, OptionRange::Any(), kResult,                                             \
     "1 = MP-MVS distant checkerboard sampling, 0 = ACMH's pattern")                                                    \
   X(std::string, planar_prior, "geometric", "geometric", "geometric",                                                  \
     OptionRange::OneOf("none|photometric|geometric"), kResult,                                                         \
     "geometric (MP-MVS), photometric (ACMP) or none")                                                                  \
-  X(int, geom_iterations, 2, 1, 2, OptionRange::AtLeast(1), kResult, "iterations of each geometric pass")              \
-  X(int, prior_iterations, 3, 2, 3, OptionRange::AtLeast(1), kResult, "iterations of each prior-assisted run")         \
+  X(int, geom_iterations, 2, 1, 2, OptionRange::Closed(1, 100), kResult, "iterations of each geometric pass")          \
+  X(int, prior_iterations, 3, 2, 3, OptionRange::Closed(1, 100), kResult, "iterations of each prior-assisted run")     \
   X(int, prior_rounds, 2, 2, 1, OptionRange::Closed(1, 4), kResult,                                                    \
     "geometric prior: rounds of (planar prior from the last geometric pass, geometric pass); 1 = the paper")           \
-  X(double, geom_weight, 0.2, 0.2, 0.2, OptionRange::AtLeast(0), kResult, "lambda of the geometric term")              \
-  X(double, geom_max_error, 2.0, 2.0, 2.0, OptionRange::Above(0), kResult, "clamp of the reprojection error (px)")     \
-  X(double, prior_max_photo_cost, 0.2, 0.2, 0.2, OptionRange::Any(), kResult,                                          \
+  X(double, geom_weight, 0.2, 0.2, 0.2, OptionRange::Closed(0, 100), kResult, "lambda of the geometric term")          \
+  X(double, geom_max_error, 2.0, 2.0, 2.0, OptionRange::OpenClosed(0, 100), kResult,                                   \
+    "clamp of the reprojection error (px)")                                                                            \
+  X(double, prior_max_photo_cost, 0.2, 0.2, 0.2, OptionRange::Closed(0, 2), kResult,                                   \
     "geometric prior vertices: photometric cost m_p below this")                                                       \
-  X(double, prior_max_geom_error, 1.0, 1.0, 1.0, OptionRange::Any(), kResult,                                          \
+  X(double, prior_max_geom_error, 1.0, 1.0, 1.0, OptionRange::Closed(0, 100), kResult,                                 \
     "geometric prior vertices: reprojection error m_g below this (px)")                                                \
-  X(double, prior_max_cost_acmp, 0.1, 0.1, 0.1, OptionRange::Any(), kResult,                                           \
+  X(double, prior_max_cost_acmp, 0.1, 0.1, 0.1, OptionRange::Closed(0, 2), kResult,                                    \
     "photometric (ACMP) prior vertices: cost below this")                                                              \
-  X(int, prior_cell_size, 5, 5, 5, OptionRange::AtLeast(1), kResult, "prior vertices: grid cell size (px)")            \
-  X(int, prior_points_per_cell, 3, 3, 3, OptionRange::AtLeast(1), kResult,                                             \
+  X(int, prior_cell_size, 5, 5, 5, OptionRange::Closed(1, 100), kResult, "prior vertices: grid cell size (px)")        \
+  X(int, prior_points_per_cell, 3, 3, 3, OptionRange::Closed(1, 100), kResult,                                         \
     "geometric prior vertices per cell (the photometric prior takes 1, as ACMP)")                                      \
   X(bool, prior_plane_vote, true, true, false, OptionRange::Any(), kResult,                                            \
     "each prior triangle takes the plane that the vertices around it vote for, among its neighbours' and its "         \
@@ -112,7 +114,7 @@ namespace mpmvs {
   X(double, prior_vertex_bend, 0.01, 0.01, 0, OptionRange::Closed(0, 1), kResult,                                      \
     "first geometric prior: a pixel where the inverse depth bends by more than this (relative second difference "      \
     "over +-3 px) is no vertex; 0 = off (paper)")                                                                      \
-  X(double, prior_beta, 8, 8, 0.18, OptionRange::Above(0), kResult,                                                    \
+  X(double, prior_beta, 8, 8, 0.18, OptionRange::OpenClosed(0, 1000), kResult,                                         \
     "beta of the prior run's score exp(-C^2/beta)*(gamma + agreement); with noise_floor on it falls with the "         \
     "window's texture towards 0.18 and the prior acts only on plain windows; 0.18 = ACMP")                             \
   X(bool, noise_floor, true, true, false, OptionRange::Any(), kResult,                                                 \
@@ -126,7 +128,8 @@ namespace mpmvs {
     "bilateral NCC weights: grey difference + this x the reference's smoothed colour difference; 0 = grey only "       \
     "(paper)")                                                                                                         \
   X(int, max_source_images, 20, 20, 20, OptionRange::Closed(1, 32), kResult, "source images used per reference")       \
-  X(int, seed, 1, 1, 1, OptionRange::AtLeast(0), kResult, "random streams (results do not depend on thread count)")    \
+  X(int, seed, 1, 1, 1, OptionRange::Closed(0, 2147483647), kResult,                                                   \
+    "random streams (results do not depend on thread count)")                                                          \
   X(int, settled_pixel_skips, 0, 0, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
     "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many of its next "        \
     "updates at the same window scale; 0 = every pixel in every pass (paper)")                                         \
@@ -149,7 +152,7 @@ namespace mpmvs {
     kRun,                                                                                                              \
     "all, or one stage whose inputs exist: photometric, geometric1, prior, geometric2, prior2, geometric3 "            \
     "(prior3, geometric4, ... with more prior_rounds), depth_check")                                                   \
-  X(int, claim_lease, 600, 600, 600, OptionRange::AtLeast(1), kRun,                                                    \
+  X(int, claim_lease, 600, 600, 600, OptionRange::Closed(1, 86400), kRun,                                              \
     "seconds before a work claim of a silent process on another host is taken over")
 
 struct PatchMatchStereoOptions {
@@ -168,7 +171,7 @@ struct PatchMatchStereoOptions {
  private:
   template <typename Self, typename Visitor>
   static void VisitFields(Self& self, Visitor& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) \
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)                                                          \
   visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME);
     MPMVS_COLMAP_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
@@ -227,8 +230,8 @@ struct MpMvsOptions {
  private:
   template <typename Self, typename Visitor>
   static void VisitFields(Self& self, Visitor& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP) \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME,   \
+#define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)                                             \
+  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME,                                               \
         OptionPresets<TYPE>{{TYPE(DEFAULT), TYPE(FAST), TYPE(PAPER)}});
     MPMVS_METHOD_OPTIONS(MPMVS_VISIT)
 #undef MPMVS_VISIT
@@ -250,6 +253,13 @@ int SeedForRandomSeed(int random_seed);
 // order (doubles with 17 digits; kResultWhenSet options only away from their default): the
 // options part of the state fingerprint (store/state_record.h).
 std::string ResultOptionsText(const MpMvsOptions& options);
+// The values of COLMAP's options that change results, one "PatchMatchStereo.name value" line
+// each in declaration order: with the text above, part of the run's fingerprint
+// (store/result_fingerprint.h), on which runs sharing a workspace must agree. Not part of a
+// state's fingerprint: image size, depth range and sources enter each state's inputs hash,
+// and the output filter acts only on the final maps.
+// include_inputs false leaves out the options that act through the inputs (kInput).
+std::string ResultOptionsText(const PatchMatchStereoOptions& options, bool include_inputs = true);
 
 // docs/options.md: every option with its default, paper value, range and help.
 std::string OptionsMarkdown();

@@ -1,6 +1,8 @@
 #include "colmap_ext/pipeline/backend.h"
 
 #include <algorithm>
+#include <exception>
+#include <system_error>
 #include <thread>
 
 #include "colmap_ext/util/error.h"
@@ -47,15 +49,50 @@ void Backend::Run(const kernels::PatchMatchProblem& problem, const kernels::Patc
   try {
     if (cuda_) {
       cuda_->Run(problem, schedule, result, next, progress);
+      MedianFilter(problem, result);
+    } else if (options_.cpu_side_work && next) {
+      RunCpuBesideSideWork(problem, schedule, result, next, progress);
     } else {
-      if (options_.cpu_look_ahead && next) next();
       kernels::RunPatchMatchCpu(problem, schedule, result, progress);
+      MedianFilter(problem, result);
     }
-    kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max,
-                                   options_.num_threads, result);
   } catch (const kernels::ThreadStartError& e) {
     throw Error(std::string(e.what()) + "; lower --PatchMatchStereo.num_threads");
   }
+}
+
+void Backend::MedianFilter(const kernels::PatchMatchProblem& problem, kernels::PatchMatchResult* result) const {
+  kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max, options_.num_threads,
+                                 result);
+}
+
+void Backend::RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem,
+                                   const kernels::PatchMatchSchedule& schedule, kernels::PatchMatchResult* result,
+                                   const kernels::NextProblemCallback& side_work,
+                                   const kernels::ProgressCallback& progress) const {
+  std::exception_ptr side_error;
+  auto run_side_work = [&] {
+    try {
+      side_work();
+    } catch (...) {
+      side_error = std::current_exception();
+    }
+  };
+  std::thread side;
+  try {
+    side = std::thread(run_side_work);
+  } catch (const std::system_error&) {
+    run_side_work();  // no thread to spare: the side work first, as without overlap
+  }
+  try {
+    kernels::RunPatchMatchCpu(problem, schedule, result, progress);
+    MedianFilter(problem, result);
+  } catch (...) {
+    if (side.joinable()) side.join();
+    throw;
+  }
+  if (side.joinable()) side.join();
+  if (side_error) std::rethrow_exception(side_error);
 }
 
 void Backend::LogCacheStats() const {

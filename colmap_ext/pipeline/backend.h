@@ -17,13 +17,15 @@ class Backend {
   explicit Backend(const BackendOptions& options);
   ~Backend();
 
-  // next: the following reference image of the stage, assembled on demand. The CUDA session
-  // calls it while this problem's kernels run; the CPU backend does not call it (the
-  // controller then assembles that image after this one, as always), unless cpu_look_ahead.
-  // The result is finished alike on both backends: the depths are median-filtered, as the
-  // reference pipeline does after every run (docs/algorithm.md §9.1); later stages, the
-  // planar prior and the outputs all see the filtered result.
-  // progress: after each iteration, (done, total).
+  // next: the controller's side work while this problem runs (writing the previous image's
+  // outputs, assembling the next image, which it returns). The CUDA session calls it on this
+  // thread while its kernels run; the CPU backend runs it on a thread of its own beside its
+  // passes (cpu_side_work), so that no core waits for serial work; without cpu_side_work it
+  // is not called (the controller then does it between images). An exception it throws is
+  // raised after the run. The result is finished alike on both backends: the depths are
+  // median-filtered, as the reference pipeline does after every run (docs/algorithm.md
+  // §9.1); later stages, the planar prior and the outputs all see the filtered result.
+  // progress: after each iteration, (done, total), on the thread that runs the passes.
   void Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
            kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
            const kernels::ProgressCallback& progress = nullptr);
@@ -32,6 +34,11 @@ class Backend {
   void LogCacheStats() const;
 
  private:
+  void MedianFilter(const kernels::PatchMatchProblem& problem, kernels::PatchMatchResult* result) const;
+  void RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
+                            kernels::PatchMatchResult* result, const kernels::NextProblemCallback& side_work,
+                            const kernels::ProgressCallback& progress) const;
+
   BackendOptions options_;
   std::unique_ptr<kernels::CudaSession> cuda_;
   std::string name_;

@@ -36,12 +36,17 @@ struct MpPatchMatchSummary {
   int num_skipped_no_sources = 0;
   int num_skipped_no_depth_range = 0;
   int num_skipped_missing_files = 0;  // --PatchMatchStereo.allow_missing_files
+  int num_not_references = 0;         // images of the model that patch-match.cfg does not list
   std::string backend;
   double seconds = 0;
   // stereo/mpmvs: the most it held (after a stage, before the states that stage made unneeded
   // were removed) and what it holds at the end.
   uint64_t intermediate_peak_bytes = 0;
   uint64_t intermediate_final_bytes = 0;
+  // Wall time outside the parallel work (the backend's runs and the depth check): loading,
+  // planning and what was left to do between images. cpu_seconds: the process's CPU time.
+  double serial_seconds = 0;
+  double cpu_seconds = 0;
   std::vector<StageSummary> stages;
 };
 
@@ -51,10 +56,11 @@ struct MpPatchMatchRun {
   std::string config_path;  // "" = workspace/stereo/patch-match.cfg
   PatchMatchStereoOptions colmap_options;
   MpMvsOptions options;
-  // Tests: the CPU backend assembles the next reference image before running the current
-  // one, as the CUDA session does while its kernels run, so that this controller path runs
-  // on machines without a GPU. Results and files are the same either way.
-  bool cpu_look_ahead = false;
+  // While the CPU backend runs a reference image, another thread writes the previous
+  // image's outputs and assembles the next image (as the CUDA session does on its host
+  // thread), so that no core waits for that serial work. Tests turn it off to compare with
+  // the serial order: results and files are the same either way.
+  bool cpu_side_work = true;
 };
 
 // Throws Error with a clear message on bad input; never leaves partial map files.

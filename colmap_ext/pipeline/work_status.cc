@@ -6,6 +6,7 @@
 #include "colmap_ext/plan/shard.h"
 #include "colmap_ext/schedule/stage_inputs.h"
 #include "colmap_ext/schedule/stage_results.h"
+#include "colmap_ext/store/result_fingerprint.h"
 #include "colmap_ext/store/stage_store.h"
 #include "colmap_ext/store/state_record.h"
 
@@ -17,7 +18,8 @@ std::vector<StageStatus> ComputeWorkStatus(const MpPatchMatchRun& run, int shard
   const DenseWorkspace workspace = io.Load(run.workspace_path, run.colmap_options.max_image_size);
   const std::vector<ReferenceProblem> problems =
       LoadReferenceProblems(workspace, run.config_path, run.colmap_options, plan.sources_per_reference).runnable;
-  StageStore store(workspace, &io, plan, problems, StateOptionsText(run.options));
+  StageStore store(workspace, &io, plan, problems,
+                   MakeResultFingerprint(run.colmap_options, run.options, workspace, problems));
   const StageInputs inputs(plan, problems);
   std::vector<char> done;
   for (const ReferenceProblem& p : problems) done.push_back(!plan.overwrite && store.AllFinalOutputsExist(p.ref));

@@ -1,5 +1,8 @@
 #include "colmap_ext/plan/run_plan.h"
 
+#include <unistd.h>
+
+#include <cmath>
 #include <sstream>
 
 #include "colmap_ext/util/error.h"
@@ -47,6 +50,19 @@ int CappedThreads(int requested) {
   return max_threads;
 }
 
+// --PatchMatchStereo.cache_size in bytes, clamped to this machine's memory (a bound on the
+// caches, not an allocation, but far more than the memory overflowed), with a warning unless
+// it is the default (COLMAP's 32 GB, more than many machines have).
+size_t CacheBytes(double cache_size_gb) {
+  constexpr double kGb = 1024.0 * 1024.0 * 1024.0;
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page_size = ::sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 64 * kGb;
+  if (cache_size_gb * kGb <= memory) return static_cast<size_t>(cache_size_gb * kGb);
+  if (cache_size_gb != PatchMatchStereoOptions().cache_size) LogWarning("--PatchMatchStereo.cache_size " + FormatNumber(cache_size_gb) + " capped to " +
+             FormatNumber(std::floor(memory / kGb * 10) / 10) + " (GB of this machine's memory)");
+  return static_cast<size_t>(memory);
+}
+
 // --MPMVS.stage as an index into the stages (-1: all); an error when this pipeline has no
 // such stage (e.g. prior with --MPMVS.planar_prior none).
 int FindStage(const PipelinePlan& pipeline, const std::string& name) {
@@ -62,7 +78,7 @@ int FindStage(const PipelinePlan& pipeline, const std::string& name) {
 }  // namespace
 
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
-                    bool cpu_look_ahead) {
+                    bool cpu_side_work) {
   std::string error;
   if (!colmap_options.Check(&error) || !options.Check(&error)) throw Error(error);
   RunPlan plan;
@@ -71,12 +87,12 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.prior = MakePriorOptions(options);
   plan.filter = colmap_options.filter;
   plan.filter_params = MakeFilterParams(colmap_options);
-  plan.cache_bytes = static_cast<size_t>(colmap_options.cache_size * 1024.0 * 1024.0 * 1024.0);
+  plan.cache_bytes = CacheBytes(colmap_options.cache_size);
   plan.num_threads = CappedThreads(colmap_options.num_threads);
   plan.backend.gpu_index = FirstGpuIndex(colmap_options.gpu_index);
   plan.backend.num_threads = plan.num_threads;
   plan.backend.cache_bytes = plan.cache_bytes;
-  plan.backend.cpu_look_ahead = cpu_look_ahead;
+  plan.backend.cpu_side_work = cpu_side_work;
   plan.chroma_guide_weight = static_cast<float>(options.chroma_weight);
   plan.sources_per_reference = options.max_source_images;
   plan.overwrite = options.overwrite;
@@ -84,6 +100,7 @@ RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOp
   plan.final_pictures = plan.stage_pictures || options.write_pictures == "final";
   plan.write_consistency_graph = colmap_options.write_consistency_graph;
   plan.keep_states = options.keep_states;
+  plan.allow_missing_files = colmap_options.allow_missing_files;
   plan.shard = ParseShard(options.shard);
   if (!options.image_list_path.empty()) {
     plan.image_names = ReadImageList(options.image_list_path);

@@ -31,6 +31,7 @@ struct RunPlan {
   bool stage_pictures = false;  // --MPMVS.write_pictures all: of every stage and written map
   bool write_consistency_graph = false;
   bool keep_states = false;  // keep every stage's state (else removed once not needed)
+  bool allow_missing_files = false;  // also: a source's missing stage result is left out
   // Which part of the work this process does (plan/shard.h, schedule/work_claims.h).
   ShardSpec shard;
   std::vector<std::string> image_names;  // --MPMVS.image_list_path ("": all)
@@ -42,6 +43,6 @@ struct RunPlan {
 
 // Checks the options (throws Error naming the bad one) and translates them.
 RunPlan MakeRunPlan(const PatchMatchStereoOptions& colmap_options, const MpMvsOptions& options,
-                    bool cpu_look_ahead);
+                    bool cpu_side_work);
 
 }  // namespace mpmvs

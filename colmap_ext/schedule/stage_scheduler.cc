@@ -1,6 +1,9 @@
 #include "colmap_ext/schedule/stage_scheduler.h"
 
+#include <signal.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <thread>
 #include <utility>
@@ -12,25 +15,76 @@
 #include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
+namespace {
+
+std::atomic<int> g_wait_signal{0};
+extern "C" void OnWaitSignal(int signal) { g_wait_signal = signal; }
+
+// While a process waits for other processes, SIGINT and SIGTERM end the wait with an Error:
+// the stack unwinds and the claims it holds (its run registration too) are released, where
+// the default action would leave them behind. Outside the waits signals act as usual.
+class InterruptibleWait {
+ public:
+  InterruptibleWait() {
+    g_wait_signal = 0;
+    struct sigaction action = {};
+    action.sa_handler = OnWaitSignal;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, &old_int_);
+    ::sigaction(SIGTERM, &action, &old_term_);
+  }
+  // A signal that came after the last check acts as it would have without the wait.
+  ~InterruptibleWait() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+    if (const int signal = g_wait_signal.exchange(0)) ::raise(signal);
+  }
+  InterruptibleWait(const InterruptibleWait&) = delete;
+  InterruptibleWait& operator=(const InterruptibleWait&) = delete;
+
+  void ThrowIfInterrupted(const std::string& what) const {
+    const int signal = g_wait_signal.exchange(0);
+    if (signal != 0) {
+      throw Error("interrupted (" + std::string(signal == SIGINT ? "SIGINT" : "SIGTERM") + ") while " + what +
+                  "; this process's claims are released");
+    }
+  }
+
+ private:
+  struct sigaction old_int_ = {}, old_term_ = {};
+};
+
+// How long a run that needs results of other processes waits while no other run with its
+// options is registered: long enough for runs started together to register.
+constexpr int kAloneSeconds = 60;
+
+}  // namespace
+
+std::unique_ptr<WorkClaims> JoinWorkspace(const RunPlan& plan, const DenseWorkspace& workspace,
+                                          const std::string& run_tag, const std::string& workspace_path) {
+  auto claims = std::make_unique<WorkClaims>(JoinPaths(workspace.IntermediateDir(), "claims"),
+                                             plan.claim_lease_seconds);
+  const std::vector<ClaimHolder> others = claims->RegisterRun(run_tag);
+  if (!others.empty()) {
+    throw Error("another mp_patch_match_stereo run with other options (" + others.front().Describe() +
+                ") is working on " + workspace_path +
+                "; the two would mix their results. Options that change results (--PatchMatchStereo.* such as "
+                "max_image_size, filter, depth_min/depth_max; --MPMVS.* such as seed) and the patch-match.cfg "
+                "(--config_path) must be the same. Wait for it to finish, or run on a copy of the workspace.");
+  }
+  return claims;
+}
 
 StageScheduler::StageScheduler(const RunPlan& plan, const DenseWorkspace& workspace, StageStore* store,
                                const std::vector<ReferenceProblem>& problems, const std::vector<size_t>& mine,
-                               const std::string& options_text, const std::string& workspace_path)
+                               std::unique_ptr<WorkClaims> claims)
     : plan_(plan),
       workspace_(workspace),
       store_(store),
       problems_(problems),
       mine_(mine),
-      claims_(std::make_unique<WorkClaims>(JoinPaths(workspace.IntermediateDir(), "claims"),
-                                           plan.claim_lease_seconds)),
+      claims_(std::move(claims)),
       inputs_(plan, problems) {
-  const std::vector<ClaimHolder> others = claims_->RegisterRun(std::to_string(HashText(options_text)));
-  if (!others.empty()) {
-    throw Error("another mp_patch_match_stereo run with other --MPMVS options (" + others.front().Describe() +
-                ") is working on " + workspace_path +
-                "; the two would mix their intermediate results. Wait for it to finish, or run on a copy of "
-                "the workspace. Runs with the same options share a workspace.");
-  }
   // Over every runnable image: which results this process's images need from the others.
   for (const ReferenceProblem& p : problems_) {
     done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
@@ -99,6 +153,9 @@ std::string StageScheduler::ClaimKey(int view) const {
 
 void StageScheduler::AwaitInputs() const {
   const auto start = std::chrono::steady_clock::now();
+  auto last_company = start;  // when another run with this run's options was last seen
+  const double alone_limit = std::min(kAloneSeconds, plan_.claim_lease_seconds);
+  std::unique_ptr<InterruptibleWait> interruptible;  // while waiting
   double next_report = 0;
   for (;;) {
     std::vector<std::string> missing;
@@ -119,6 +176,9 @@ void StageScheduler::AwaitInputs() const {
         // before). Another process computes every input a needed stage reads (needed_),
         // also of an image whose final maps exist.
         if (plan_.only_stage < 0 && ours) continue;
+        // With allow_missing_files a source without its result is left out (a warning
+        // where the image is prepared), as in a whole run; the image's own result is needed.
+        if (plan_.only_stage >= 0 && plan_.allow_missing_files && in.view != p.ref) continue;
         const std::string& name = plan_.pipeline.stages[in.stage].name;
         if (!store_->HasState(in.view, name)) missing.push_back(store_->StatePath(in.view, name));
       }
@@ -132,15 +192,28 @@ void StageScheduler::AwaitInputs() const {
     const std::string& stage = plan_.pipeline.stages[stage_].name;
     if (plan_.only_stage >= 0) {
       throw Error("--MPMVS.stage " + stage + " needs the results of the previous stage for all images and "
-                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first):" + list);
+                  "their sources; " + std::to_string(missing.size()) + " are missing (run that stage first, or "
+                  "leave sources without them out with --PatchMatchStereo.allow_missing_files 1):" + list);
     }
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto now = std::chrono::steady_clock::now();
+    if (claims_->AnotherRunShares()) last_company = now;
+    if (std::chrono::duration<double>(now - last_company).count() > alone_limit) {
+      throw Error("Stage " + stage + " needs " + std::to_string(missing.size()) +
+                  " results of images this run does not compute (--MPMVS.image_list_path / --MPMVS.shard), and "
+                  "no other mp_patch_match_stereo run with the same options is working on this workspace:" + list +
+                  "\nCompute them first (a run without --MPMVS.image_list_path and --MPMVS.shard, or runs for the "
+                  "other images), or start the runs of all images within " + FormatNumber(alone_limit) +
+                  " s of each other (colmap-mp slurm_submit does this on a cluster).");
+    }
+    const double elapsed = std::chrono::duration<double>(now - start).count();
     if (elapsed >= next_report) {
       LogInfo("Stage " + stage + ": waiting for " + std::to_string(missing.size()) +
               " results that other processes compute:" + list);
       next_report += 60;
     }
+    if (!interruptible) interruptible = std::make_unique<InterruptibleWait>();
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    interruptible->ThrowIfInterrupted("waiting for the results of stage " + stage);
   }
 }
 
@@ -153,6 +226,7 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
     const std::string& name = workspace_.views[p.ref].name;
     ClaimHolder holder;
     bool told = false;
+    std::unique_ptr<InterruptibleWait> interruptible;
     while (claims_->TryClaim(ClaimKey(p.ref), &holder) == WorkClaims::Result::kHeld) {
       if (!wait) {
         LogInfo(name + ": stage " + stage + " is being run by " + holder.Describe() + "; doing other images first");
@@ -160,7 +234,9 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
       }
       if (!told) LogInfo(name + ": waiting for " + holder.Describe() + " to finish stage " + stage);
       told = true;
+      if (!interruptible) interruptible = std::make_unique<InterruptibleWait>();
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      interruptible->ThrowIfInterrupted("waiting for " + holder.Describe() + " to finish stage " + stage + " of " + name);
     }
   }
   return PrepareStageReference(plan_, workspace_, store_, stage_, p, done_[i], needed_[i][stage_]);

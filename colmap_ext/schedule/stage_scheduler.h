@@ -29,15 +29,20 @@
 
 namespace mpmvs {
 
+// Registers this process as a run on the workspace under run_tag (ResultFingerprint::RunTag)
+// and returns its claims; throws Error naming workspace_path when another live run with
+// another tag works on it. Call it before the run changes any file of the workspace.
+std::unique_ptr<WorkClaims> JoinWorkspace(const RunPlan& plan, const DenseWorkspace& workspace,
+                                          const std::string& run_tag, const std::string& workspace_path);
+
 class StageScheduler {
  public:
   // plan, workspace, store and problems (every runnable reference) must outlive the
-  // scheduler; mine: the positions in problems this process runs, in order. Registers the
-  // run under its options (options_text: StateOptionsText) and throws Error naming
-  // workspace_path when another live run with other options works on the workspace.
+  // scheduler; mine: the positions in problems this process runs, in order; claims: from
+  // JoinWorkspace.
   StageScheduler(const RunPlan& plan, const DenseWorkspace& workspace, StageStore* store,
                  const std::vector<ReferenceProblem>& problems, const std::vector<size_t>& mine,
-                 const std::string& options_text, const std::string& workspace_path);
+                 std::unique_ptr<WorkClaims> claims);
 
   // Of this process's images, how many had their final maps whole at the start (kept).
   int NumDone() const;
@@ -48,6 +53,8 @@ class StageScheduler {
   // Blocks while the only images left are held by other live processes. Throws what
   // preparing an image throws.
   std::unique_ptr<StageReference> Next();
+  // Whether Next() returns an image LookAhead() prepared, without preparing or waiting.
+  bool NextIsReady() const { return ahead_ != nullptr; }
   // For the backend while the image Next() returned runs: claims and prepares the image
   // after it and returns its problem when it is to be computed; nullptr otherwise (none,
   // held by another process, or not computed).

@@ -41,6 +41,12 @@ long long ProcessStartTime(long pid) {
   }
 }
 
+// Printable text without spaces: what a host name and a tag are.
+bool PlainWord(const std::string& word) {
+  return !word.empty() && std::all_of(word.begin(), word.end(), [](char c) { return c > ' ' && c < 127; });
+}
+
+// False for a file that is no claim (damaged, foreign): it is never printed, only named.
 bool ReadHolder(const std::string& path, ClaimHolder* holder) {
   std::ifstream in(path);
   if (!(in >> holder->host >> holder->pid >> holder->start >> holder->lease_seconds)) return false;
@@ -48,7 +54,7 @@ bool ReadHolder(const std::string& path, ClaimHolder* holder) {
     holder->created_ns = 0;
     holder->tag = "-";
   }
-  return true;
+  return PlainWord(holder->host) && PlainWord(holder->tag) && holder->pid > 0;
 }
 
 bool SameFile(const std::string& path, unsigned long long inode) {
@@ -131,8 +137,9 @@ WorkClaims::Result WorkClaims::TryClaim(const std::string& key, ClaimHolder* hol
     if (::stat(path.c_str(), &st) != 0) continue;  // released meanwhile: try again
     const bool readable = ReadHolder(path, &other);
     if (!IsStale(st, readable, other)) break;
-    LogWarning("taking over the claim " + path + " of " + (readable ? other.Describe() : std::string("?")) +
-               ", which is no longer running");
+    LogWarning(readable ? "taking over the claim " + path + " of " + other.Describe() + ", which is no longer running"
+                        : "taking over the claim " + path + ", which is unreadable (damaged or not a claim) and " +
+                              "has not been refreshed for --MPMVS.claim_lease s");
     // Move the stale claim out of the way; only one process can rename it.
     const std::string dead = path + ".dead" + tag;
     if (::rename(path.c_str(), dead.c_str()) != 0) continue;
@@ -153,8 +160,9 @@ bool WorkClaims::IsStale(const struct stat& st, bool readable, const ClaimHolder
     const long long start = gone ? -1 : ProcessStartTime(holder.pid);
     return gone || (holder.start >= 0 && start >= 0 && start != holder.start);
   }
-  const int lease = readable && holder.lease_seconds > 0 ? holder.lease_seconds : lease_seconds_;
-  return std::time(nullptr) - st.st_mtime > lease;
+  // This process's lease (--MPMVS.claim_lease), not the one the file states: the user's
+  // option decides, and runs sharing a workspace are given the same one.
+  return std::time(nullptr) - st.st_mtime > lease_seconds_;
 }
 
 std::vector<ClaimHolder> WorkClaims::RegisterRun(const std::string& tag) {
@@ -163,11 +171,26 @@ std::vector<ClaimHolder> WorkClaims::RegisterRun(const std::string& tag) {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
   const std::string key = "runs/" + self_.host + "." + std::to_string(self_.pid);
   if (TryClaim(key) != Result::kClaimed) ThrowFileError(ClaimPath(key), "cannot register this run");
-  const std::string own = std::filesystem::path(ClaimPath(key)).filename().string();
   const auto before = [](const ClaimHolder& a, const ClaimHolder& b) {
     return std::tie(a.created_ns, a.host, a.pid) < std::tie(b.created_ns, b.host, b.pid);
   };
   std::vector<ClaimHolder> earlier;
+  for (const ClaimHolder& other : OtherLiveRuns()) {
+    if (other.tag != tag && before(other, self_)) earlier.push_back(other);
+  }
+  std::sort(earlier.begin(), earlier.end(), before);
+  return earlier;
+}
+
+bool WorkClaims::AnotherRunShares() const {
+  const std::vector<ClaimHolder> others = OtherLiveRuns();
+  return std::any_of(others.begin(), others.end(), [&](const ClaimHolder& other) { return other.tag == self_.tag; });
+}
+
+std::vector<ClaimHolder> WorkClaims::OtherLiveRuns() const {
+  const std::string own =
+      std::filesystem::path(ClaimPath("runs/" + self_.host + "." + std::to_string(self_.pid))).filename().string();
+  std::vector<ClaimHolder> runs;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(JoinPaths(dir_, "runs"), ec)) {
     const std::string name = entry.path().filename().string();
@@ -175,10 +198,9 @@ std::vector<ClaimHolder> WorkClaims::RegisterRun(const std::string& tag) {
     struct stat st;
     ClaimHolder other;
     if (::stat(entry.path().c_str(), &st) != 0 || !ReadHolder(entry.path().string(), &other)) continue;
-    if (other.tag != tag && !IsStale(st, true, other) && before(other, self_)) earlier.push_back(other);
+    if (!IsStale(st, true, other)) runs.push_back(other);
   }
-  std::sort(earlier.begin(), earlier.end(), before);
-  return earlier;
+  return runs;
 }
 
 void WorkClaims::Release(const std::string& key) {

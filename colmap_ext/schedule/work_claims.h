@@ -11,7 +11,10 @@
 //
 // A claim is stale, and taken over, when its holder is dead:
 //   same host:  the pid does not exist, or belongs to a later process (other start time);
-//   other host: the mtime is older than the lease (the holder's heartbeat stopped).
+//   other host: the mtime is older than this process's lease (the holder's heartbeat
+//               stopped); the lease the file states is not used, so give every process of
+//               a workspace the same --MPMVS.claim_lease.
+// A file that is no readable claim is named, never printed, and judged by its mtime.
 // Takeover renames the stale file to a private name (atomic; only one process wins) and
 // checks it renamed the file it judged; then it claims as usual. Across hosts this relies
 // on clocks agreeing to well within the lease (mtime comes from the file server's clock,
@@ -19,7 +22,7 @@
 // much longer than any skew.
 //
 // Runs whose results would differ (other options) must not share a workspace: each run also
-// holds the claim runs/HOST.PID with a tag (its options' fingerprint) and its wall-clock
+// holds the claim runs/HOST.PID with a tag (store/result_fingerprint.h) and its wall-clock
 // start, and stops when a live run with another tag started before it (RegisterRun). Runs
 // with one tag, such as the Slurm array tasks of one submit, share a workspace freely.
 #include <atomic>
@@ -65,6 +68,8 @@ class WorkClaims {
   // (ordered by created_ns, then host and pid: every process agrees on the order). The
   // caller stops when the list is not empty; the earlier run goes on.
   std::vector<ClaimHolder> RegisterRun(const std::string& tag);
+  // Whether another live process has registered a run with this process's tag.
+  bool AnotherRunShares() const;
 
   std::string ClaimPath(const std::string& key) const;
   static std::string ThisHost();
@@ -73,6 +78,8 @@ class WorkClaims {
   void Heartbeat();
   // Whether the claim file at path (stat st; holder read if readable) belongs to a dead holder.
   bool IsStale(const struct stat& st, bool readable, const ClaimHolder& holder) const;
+  // The other live processes' run registrations.
+  std::vector<ClaimHolder> OtherLiveRuns() const;
 
   std::string dir_;
   int lease_seconds_;

@@ -66,7 +66,8 @@ std::string PictureBase(const DenseWorkspace& workspace, int view, const std::st
 
 }  // namespace
 
-void WriteFinalMaps(WorkspaceIo* io, const DenseWorkspace& workspace, const ReferenceProblem& problem,
+void WriteFinalMaps(WorkspaceIo* io, const StageStore& store, const DenseWorkspace& workspace,
+                    const ReferenceProblem& problem,
                     const kernels::PatchMatchProblem& pm_problem, const kernels::PatchMatchResult& result,
                     const std::string& type, bool write_consistency_graph, bool write_pictures) {
   std::vector<float> depth, normal;
@@ -74,12 +75,14 @@ void WriteFinalMaps(WorkspaceIo* io, const DenseWorkspace& workspace, const Refe
   FloatMap depth_map(result.width, result.height, 1), normal_map(result.width, result.height, 3);
   depth_map.data = std::move(depth);
   normal_map.data = std::move(normal);
+  store.RemoveMapsRecord(problem.ref, type);
   io->WriteNormalMap(workspace.NormalMapPath(problem.ref, type), normal_map);
   io->WriteDepthMap(workspace.DepthMapPath(problem.ref, type), depth_map, problem.depth_min, problem.depth_max);
   if (write_consistency_graph) {
     io->WriteConsistencyGraph(workspace.ConsistencyGraphPath(problem.ref, type),
                               MakeConsistencyGraph(pm_problem, result, depth_map));
   }
+  store.WriteMapsRecord(problem.ref, type);
   if (write_pictures) {
     const std::string& name = workspace.views[problem.ref].name;
     const std::string base = PictureBase(workspace, problem.ref, type);

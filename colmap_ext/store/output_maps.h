@@ -11,9 +11,13 @@
 
 namespace mpmvs {
 
+class StageStore;
+
 // Writes NAME.TYPE.bin depth and normal maps (normal first: fusion aborts on a depth map
-// without its normal map), the consistency graph if asked, and their pictures if asked.
-void WriteFinalMaps(WorkspaceIo* io, const DenseWorkspace& workspace, const ReferenceProblem& problem,
+// without its normal map), the consistency graph if asked, their record (store's
+// WriteMapsRecord, after removing the old one first) and their pictures if asked.
+void WriteFinalMaps(WorkspaceIo* io, const StageStore& store, const DenseWorkspace& workspace,
+                    const ReferenceProblem& problem,
                     const kernels::PatchMatchProblem& pm_problem, const kernels::PatchMatchResult& result,
                     const std::string& type, bool write_consistency_graph, bool write_pictures);
 

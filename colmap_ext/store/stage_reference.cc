@@ -40,8 +40,10 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
     source.image_id = static_cast<uint32_t>(src);
     if (stage.schedule.geometric) {
       if (!store->HasState(src, input_stage)) {
-        LogWarning(workspace.views[p.ref].name + ": source " + workspace.views[src].name + " has no " +
-                   input_stage + " result; left out of this stage");
+        if (store->Runs(src)) {  // else said once when the run was planned
+          LogWarning(workspace.views[p.ref].name + ": source " + workspace.views[src].name + " has no " +
+                     input_stage + " result; left out of this stage");
+        }
         continue;
       }
       ref->depths.push_back(store->SourceDepth(stage.input, src));

@@ -1,6 +1,7 @@
 #include "colmap_ext/store/stage_store.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -68,11 +69,11 @@ std::vector<float> ResultDepth(const kernels::PatchMatchResult& result, const ke
 }
 
 StageStore::StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const RunPlan& plan,
-                       const std::vector<ReferenceProblem>& problems, const std::string& options_text)
+                       const std::vector<ReferenceProblem>& problems, const ResultFingerprint& fingerprint)
     : workspace_(workspace),
       io_(io),
       plan_(plan),
-      options_text_(options_text),
+      fingerprint_(fingerprint),
       images_(plan.cache_bytes / 3, [this](const int& view) { return io_->ReadGray(workspace_, view); },
               [](const GrayImage& img) { return CacheBytes(img.data); }),
       chroma_guides_(plan.cache_bytes / 3, [this](const int& view) { return ReadChromaGuide(view); },
@@ -103,9 +104,17 @@ bool StageStore::HasState(int view, const std::string& stage) {
   const std::string stamp = StateStamp(view, stage);
   StateVerdict& verdict = state_usable_[{view, stage}];
   if (verdict.stamp != stamp) {
-    const std::string why = CheckState(view, stage);
+    bool changed = false;
+    const std::string why = CheckState(view, stage, &changed);
     if (!why.empty() && why != verdict.why) {
-      LogWarning(StatePath(view, stage) + ": not resumed, " + why + "; recomputing it");
+      // Other options or inputs are no damage: said once, not once per state.
+      if (!changed) {
+        LogWarning(StatePath(view, stage) + ": not resumed, " + why + "; recomputing it");
+      } else if (!options_change_reported_) {
+        LogInfo(StatePath(view, stage) + ": not resumed, " + why +
+                "; recomputing it and every intermediate result of other options or inputs");
+        options_change_reported_ = true;
+      }
     }
     verdict = {why.empty(), why, stamp};
   }
@@ -124,11 +133,13 @@ std::string StageStore::StateStamp(int view, const std::string& stage) const {
   return stamp;
 }
 
-std::string StageStore::CheckState(int view, const std::string& stage) {
+std::string StageStore::CheckState(int view, const std::string& stage, bool* changed) {
   StateRecord record;
   std::string why;
+  *changed = false;
   if (!ReadStateRecord(StateRecordPath(view, stage), &record, &why)) return why;
   const StateRecord expected = ExpectedRecord(view, stage);
+  *changed = true;
   if (record.stage != stage || record.width != expected.width || record.height != expected.height) {
     return "its record is of stage " + record.stage + " at " + std::to_string(record.width) + "x" +
            std::to_string(record.height) + ", expected " + stage + " at " + std::to_string(expected.width) + "x" +
@@ -138,6 +149,7 @@ std::string StageStore::CheckState(int view, const std::string& stage) {
   if (record.inputs != expected.inputs) {
     return "it was made from other images, cameras, depth range or source images";
   }
+  *changed = false;
   try {
     const FloatMap state = ReadFloatMap(StatePath(view, stage), kStateChannels);
     if (state.width != expected.width || state.height != expected.height) return "its size differs from the image";
@@ -161,17 +173,21 @@ StateRecord StageStore::ExpectedRecord(int view, const std::string& stage) {
       chain += plan_.pipeline.stages[k].name + "/" + StageKindName(plan_.pipeline.stages[k].kind) + " ";
     }
   }
-  record.options = HashText(options_text_ + "stages " + chain + "\n");
+  record.options = HashText(fingerprint_.state_options + "stages " + chain + "\n");
+  record.inputs = InputsHash(view);
+  return record;
+}
+
+uint64_t StageStore::InputsHash(int view) const {
   const ReferenceProblem& p = problems_.at(view);
   char range[64];
   std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
   std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
   for (int src : p.src) inputs += "source " + ViewIdentity(src);
-  record.inputs = HashText(inputs);
-  return record;
+  return HashText(inputs);
 }
 
-std::string StageStore::ViewIdentity(int view) {
+std::string StageStore::ViewIdentity(int view) const {
   auto it = view_identities_.find(view);
   if (it != view_identities_.end()) return it->second;
   const DenseView& v = workspace_.views[view];
@@ -226,37 +242,109 @@ bool StageStore::RemoveState(int view, const std::string& stage) {
   return removed;
 }
 
-std::vector<std::pair<std::string, std::string>> StageStore::DamagedFinalOutputs(int view,
-                                                                                 const std::string& type) const {
-  const DenseView& v = workspace_.views[view];
-  std::vector<std::pair<std::string, std::string>> damaged;
-  const std::pair<std::string, int> maps[2] = {{workspace_.DepthMapPath(view, type), 1},
-                                               {workspace_.NormalMapPath(view, type), 3}};
-  for (const auto& map : maps) {
-    if (!FileExists(map.first)) continue;
-    const std::string why = CheckFloatMapFile(map.first, v.width, v.height, map.second);
-    if (!why.empty()) damaged.emplace_back(map.first, why);
-  }
-  const std::string graph_path = workspace_.ConsistencyGraphPath(view, type);
-  if (plan_.write_consistency_graph && FileExists(graph_path)) {
-    try {
-      const ConsistencyGraph graph = ReadConsistencyGraph(graph_path);
-      if (graph.width != v.width || graph.height != v.height) {
-        damaged.emplace_back(graph_path, "it is " + std::to_string(graph.width) + "x" +
-                                             std::to_string(graph.height) + ", the image " +
-                                             std::to_string(v.width) + "x" + std::to_string(v.height));
-      }
-    } catch (const Error& e) {
-      damaged.emplace_back(graph_path, e.what());
-    }
-  }
-  return damaged;
+namespace {
+
+// The final map files of a view and type: (role, path, channels; 0 for the consistency graph).
+struct FinalFile {
+  std::string role;
+  std::string path;
+  int channels;
+};
+
+std::vector<FinalFile> FinalFiles(const DenseWorkspace& workspace, int view, const std::string& type,
+                                  bool consistency_graph) {
+  std::vector<FinalFile> files = {{"depth", workspace.DepthMapPath(view, type), 1},
+                                  {"normal", workspace.NormalMapPath(view, type), 3}};
+  if (consistency_graph) files.push_back({"consistency_graph", workspace.ConsistencyGraphPath(view, type), 0});
+  return files;
 }
 
-bool StageStore::FinalOutputsExist(int view, const std::string& type) const {
-  return FileExists(workspace_.DepthMapPath(view, type)) && FileExists(workspace_.NormalMapPath(view, type)) &&
-         (!plan_.write_consistency_graph || FileExists(workspace_.ConsistencyGraphPath(view, type))) &&
-         DamagedFinalOutputs(view, type).empty();
+// "" when the map's values are those of a depth (channels 1: finite, 0 or inside
+// [depth_min, depth_max] with 1 % slack) or normal map (finite, length 1 or 0).
+std::string MapValuesProblem(const FloatMap& map, float depth_min, float depth_max) {
+  const size_t n = static_cast<size_t>(map.width) * map.height;
+  for (size_t i = 0; i < n; ++i) {
+    if (map.channels == 1) {
+      const float d = map.data[i];
+      if (!std::isfinite(d) || d < 0.f || (d > 0.f && (d < 0.99f * depth_min || d > 1.01f * depth_max))) {
+        return "a depth of " + std::to_string(d) + " (pixel " + std::to_string(i) + ") is not 0 or inside the " +
+               "depth range [" + std::to_string(depth_min) + ", " + std::to_string(depth_max) + "]";
+      }
+    } else {
+      const float x = map.data[i], y = map.data[n + i], z = map.data[2 * n + i];
+      const float length2 = x * x + y * y + z * z;
+      if (!std::isfinite(length2) || (length2 != 0.f && std::abs(length2 - 1.f) > 0.01f)) {
+        return "the normal of pixel " + std::to_string(i) + " is not of length 1 or 0";
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+FinalMapsCheck StageStore::CheckFinalOutputs(int view, const std::string& type) const {
+  FinalMapsCheck check;
+  const DenseView& v = workspace_.views[view];
+  const std::string size_text = std::to_string(v.width) + "x" + std::to_string(v.height);
+  MapsRecord record;
+  std::string no_record;
+  const bool has_record = ReadMapsRecord(MapsRecordPath(view, type), &record, &no_record);
+  bool all_there = true;
+  for (const FinalFile& file : FinalFiles(workspace_, view, type, plan_.write_consistency_graph)) {
+    if (!FileExists(file.path)) {
+      all_there = false;
+      continue;
+    }
+    if (has_record && (record.maps_options != HashText(fingerprint_.maps_options) || record.inputs != InputsHash(view))) {
+      const std::string changed = ChangedOptions(record.options, fingerprint_.options);
+      check.other_options = changed.empty() ? "other images, cameras, depth range or sources" : changed;
+      return check;
+    }
+    std::string why;
+    FloatMap map;
+    if (file.channels == 0) {
+      try {
+        const ConsistencyGraph graph = ReadConsistencyGraph(file.path);
+        if (graph.width != v.width || graph.height != v.height) {
+          why = "it is " + std::to_string(graph.width) + "x" + std::to_string(graph.height) + ", the image " + size_text;
+        }
+      } catch (const Error& e) {
+        why = e.what();
+      }
+    } else {
+      why = CheckFloatMapFile(file.path, v.width, v.height, file.channels);
+      if (!why.empty() && !has_record) {
+        // A whole map of another size: made with another max_image_size, no damage.
+        try {
+          map = ReadFloatMap(file.path, file.channels);
+          check.other_options = "made at " + std::to_string(map.width) + "x" + std::to_string(map.height) +
+                                ", the image is now " + size_text + " (PatchMatchStereo.max_image_size)";
+          return check;
+        } catch (const Error&) {
+        }
+      }
+    }
+    if (why.empty()) {
+      const MapsRecord::File* written = has_record ? record.Find(file.role) : nullptr;
+      if (written) {
+        if (!FileMatches(file.path, *written)) {
+          why = "its bytes are not those mp-mvs wrote (changed or copied over since; its record " +
+                MapsRecordPath(view, type) + ")";
+        }
+      } else if (file.channels > 0) {
+        try {
+          const ReferenceProblem& p = problems_.at(view);
+          why = MapValuesProblem(ReadFloatMap(file.path, file.channels), p.depth_min, p.depth_max);
+        } catch (const Error& e) {
+          why = e.what();
+        }
+      }
+    }
+    if (!why.empty()) check.damaged.emplace_back(file.path, why);
+  }
+  check.complete = all_there && check.damaged.empty();
+  return check;
 }
 
 bool StageStore::AllFinalOutputsExist(int view) const {
@@ -268,7 +356,7 @@ int StageStore::MoveAsideDamagedFinalOutputs(int view) const {
   std::vector<std::string> types = {"photometric"};
   if (plan_.final_type != "photometric") types.push_back(plan_.final_type);
   for (const std::string& type : types) {
-    for (const auto& damaged : DamagedFinalOutputs(view, type)) {
+    for (const auto& damaged : CheckFinalOutputs(view, type).damaged) {
       std::string aside;
       for (int n = 1; aside.empty() || FileExists(aside); ++n) aside = damaged.first + ".damaged-" + std::to_string(n);
       std::error_code ec;
@@ -282,6 +370,27 @@ int StageStore::MoveAsideDamagedFinalOutputs(int view) const {
     }
   }
   return moved;
+}
+
+std::string StageStore::MapsRecordPath(int view, const std::string& type) const {
+  return JoinPaths(workspace_.IntermediateDir(), workspace_.views[view].name + "." + type + ".maps.json");
+}
+
+void StageStore::RemoveMapsRecord(int view, const std::string& type) const {
+  std::error_code ec;
+  std::filesystem::remove(MapsRecordPath(view, type), ec);
+}
+
+void StageStore::WriteMapsRecord(int view, const std::string& type) const {
+  MapsRecord record;
+  record.type = type;
+  record.options = fingerprint_.options;
+  record.maps_options = HashText(fingerprint_.maps_options);
+  record.inputs = InputsHash(view);
+  for (const FinalFile& file : FinalFiles(workspace_, view, type, plan_.write_consistency_graph)) {
+    record.files.push_back(DescribeFile(file.path, file.role));
+  }
+  mpmvs::WriteMapsRecord(MapsRecordPath(view, type), record);
 }
 
 std::vector<float> StageStore::ReadChromaGuide(int view) const {

@@ -185,6 +185,47 @@ TEST(Cli, FailedRunLeavesEarlierOutputsUntouched) {
   }
 }
 
+// Issue 35, defect 3: generate_scene into a folder that holds a workspace wrote the new scene
+// beside the old maps, which the next run trusted. It refuses a non-empty folder; with
+// --overwrite 1 it replaces an earlier generated scene (maps included), never anything else.
+TEST(Cli, GenerateSceneRefusesAFolderInUseUnlessToldToOverwrite) {
+  test::TempDir tmp;
+  const std::string ws = tmp / "ws";
+  const std::string small = " --scene plane --width 48 --height 36 --num_views 2";
+  ASSERT_EQ(ColmapMp("generate_scene" + small + " --output_path " + ws, tmp / "gen.log").code, 0);
+  const std::string old_map = ws + "/stereo/depth_maps/view_00.png.geometric.bin";
+  test::RunCommand("echo old > '" + old_map + "'");
+
+  CliRun r = ColmapMp("generate_scene" + small + " --seed 9 --output_path " + ws, tmp / "again.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("--overwrite 1"), std::string::npos) << r.output;
+  EXPECT_EQ(test::ReadTextFile(old_map), "old\n");  // nothing touched
+
+  r = ColmapMp("generate_scene" + small + " --seed 9 --overwrite 1 --output_path " + ws, tmp / "over.log");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(old_map)) << r.output;  // the old scene's maps went with it
+  EXPECT_TRUE(fs::exists(ws + "/gt/scene_info.json"));
+
+  // A folder that is not a generated scene is never replaced.
+  const std::string other = tmp / "other";
+  fs::create_directories(other + "/stereo");
+  r = ColmapMp("generate_scene" + small + " --overwrite 1 --output_path " + other, tmp / "other.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(fs::exists(other + "/stereo"));
+  EXPECT_FALSE(fs::exists(other + "/images"));
+}
+
+// Issue 35, defect 8: compare with a folder that does not exist exited 0 with 0.0 figures.
+TEST(Cli, CompareRefusesAFolderThatIsNoWorkspace) {
+  test::TempDir tmp;
+  const std::string ws = tmp / "ws";
+  ASSERT_EQ(ColmapMp("generate_scene --scene plane --width 48 --height 36 --num_views 2 --output_path " + ws,
+                     tmp / "gen.log").code, 0);
+  const CliRun r = ColmapMp("compare --workspace_paths " + ws + "," + tmp / "typo", tmp / "compare.log");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find(tmp / "typo"), std::string::npos) << r.output;
+}
+
 TEST(Cli, DemoRunsEndToEnd) {
   test::TempDir tmp;
   const std::string out = tmp / "demo";

@@ -266,6 +266,26 @@ TEST(DenseWorkspaceError, DistortedCameraNeedsUndistortion) {
                      "must be undistorted first with `colmap image_undistorter");
 }
 
+// Issue 35, defect 6: an image name that climbs out of images/ ("../x/view.png") or is
+// absolute would put maps and states outside stereo/ (a depth and a normal map could even
+// resolve to one file): refused, naming the file and the name.
+TEST(DenseWorkspaceError, ImageNameOutsideTheWorkspaceIsRefused) {
+  for (const std::string name : {"../x/view.png", "sub/../../view.png", "/tmp/view.png", "sub/../view.png"}) {
+    TempDir dir;
+    SparseModel model = MakeOverlapModel();
+    model.images[1].name = name;
+    MakeWorkspace(dir.path(), model);
+    EXPECT_MPMVS_ERROR(LoadDenseWorkspace(dir.path(), -1), dir / "sparse/images.bin: image '" + name + "'");
+    EXPECT_MPMVS_ERROR(LoadDenseWorkspace(dir.path(), -1), "outside the workspace");
+  }
+  // Names with sub-folders and dots inside them stay valid.
+  TempDir dir;
+  SparseModel model = MakeOverlapModel();
+  model.images[1].name = "sub/..dots../view.1.png";
+  MakeWorkspace(dir.path(), model);
+  EXPECT_NO_THROW(LoadDenseWorkspace(dir.path(), -1));
+}
+
 TEST(DenseWorkspaceError, BadCameraOrPose) {
   TempDir dir;
   SparseModel model = MakeOverlapModel();

@@ -2,7 +2,11 @@
 // fingerprint, Check(), the presets, -h and docs/options.md — says what the tables say.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <functional>
+#include <limits>
+#include <set>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -11,6 +15,7 @@
 #include "colmap_ext/cli/option_parser.h"
 #include "colmap_ext/cli/patch_match_flags.h"
 #include "colmap_ext/options/patch_match_options.h"
+#include "colmap_ext/plan/run_plan.h"
 #include "colmap_ext/plan/stage_plan.h"
 #include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/error.h"
@@ -202,6 +207,76 @@ TEST(Options, CheckRefusesEveryValueOutsideItsDeclaredRange) {
   bad_colmap.max_image_size = 0;
   EXPECT_FALSE(bad_colmap.Check(&error));
   EXPECT_EQ(error, "--PatchMatchStereo.max_image_size = 0 is invalid: must be -1 or > 0");
+}
+
+// Issue 35, defect 7: absurd but finite values are refused by Check(), naming the option,
+// instead of ruining the maps (depths beyond float precision or FLT_MAX, a geometric weight
+// of 1e39) or exhausting memory (2^31 - 1 iterations).
+TEST(Options, CheckRefusesAbsurdFiniteValuesNamingTheOption) {
+  auto colmap_error = [](double depth_min, double depth_max) {
+    PatchMatchStereoOptions c;
+    c.depth_min = depth_min;
+    c.depth_max = depth_max;
+    std::string error;
+    EXPECT_FALSE(c.Check(&error)) << depth_min << " " << depth_max;
+    return error;
+  };
+  EXPECT_NE(colmap_error(1, 1e15).find("--PatchMatchStereo.depth_max"), std::string::npos);
+  EXPECT_NE(colmap_error(1, 1e39).find("--PatchMatchStereo.depth_max"), std::string::npos);
+  EXPECT_NE(colmap_error(1e-30, 10).find("--PatchMatchStereo.depth_min"), std::string::npos);
+  auto method_error = [](const std::function<void(MpMvsOptions*)>& set) {
+    MpMvsOptions o;
+    set(&o);
+    std::string error;
+    EXPECT_FALSE(o.Check(&error));
+    return error;
+  };
+  const int max_int = std::numeric_limits<int>::max();
+  EXPECT_NE(method_error([](MpMvsOptions* o) { o->geom_weight = 1e39; }).find("--MPMVS.geom_weight"),
+            std::string::npos);
+  EXPECT_NE(method_error([&](MpMvsOptions* o) { o->iterations_per_scale = max_int; }).find("--MPMVS.iterations_per_scale"),
+            std::string::npos);
+  EXPECT_NE(method_error([&](MpMvsOptions* o) { o->geom_iterations = max_int; }).find("--MPMVS.geom_iterations"),
+            std::string::npos);
+  EXPECT_NE(method_error([&](MpMvsOptions* o) { o->prior_iterations = max_int; }).find("--MPMVS.prior_iterations"),
+            std::string::npos);
+  EXPECT_NE(method_error([](MpMvsOptions* o) { o->prior_max_photo_cost = std::nan(""); })
+                .find("--MPMVS.prior_max_photo_cost"),
+            std::string::npos);
+  EXPECT_NE(method_error([&](MpMvsOptions* o) { o->claim_lease = max_int; }).find("--MPMVS.claim_lease"),
+            std::string::npos);
+}
+
+// Every numeric option has a range bounded on both sides, but the resource options, which
+// are clamped with a warning instead, and max_image_size (a bound above the image's size
+// means full size).
+TEST(Options, EveryNumericOptionHasABoundedRange) {
+  const std::set<std::string> unbounded = {"num_threads", "cache_size", "max_image_size"};
+  auto bounded = [](const OptionRange& r) {
+    return r.kind == OptionRange::Kind::kClosed || r.kind == OptionRange::Kind::kOpen ||
+           r.kind == OptionRange::Kind::kClosedOpen || r.kind == OptionRange::Kind::kOpenClosed;
+  };
+  auto check = [&](const OptionSpec& spec, const auto& value) {
+    using T = std::decay_t<decltype(value)>;
+    if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+      if (!unbounded.count(spec.name)) EXPECT_TRUE(bounded(spec.range)) << spec.name << ": " << spec.range.Text();
+    }
+  };
+  PatchMatchStereoOptions().Visit([&](const OptionSpec& spec, const auto& value) { check(spec, value); });
+  MpMvsOptions().Visit([&](const OptionSpec& spec, const auto& value, const auto&) { check(spec, value); });
+}
+
+// Resource options stay accepted and are clamped with a warning.
+TEST(Options, HugeCacheSizeIsClampedWithAWarning) {
+  PatchMatchStereoOptions c;
+  c.cache_size = 1e30;
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  const RunPlan plan = MakeRunPlan(c, MpMvsOptions{}, false);
+  const std::string log = testing::internal::GetCapturedStdout() + testing::internal::GetCapturedStderr();
+  EXPECT_NE(log.find("--PatchMatchStereo.cache_size"), std::string::npos) << log;
+  EXPECT_GT(plan.cache_bytes, size_t(1) << 20);
+  EXPECT_LT(plan.cache_bytes, size_t(1) << 50);
 }
 
 // -h shows every declared option with its range, and the stage option names every stage a

@@ -310,6 +310,38 @@ TEST(HostileGeometry, CamerasBehindBesideAndInsideTheSceneDoNotSpoilTheOthers) {
 
 // The same scene with the world shifted by a few million metres (as UTM/ECEF-registered
 // models are) must give the same maps up to float rounding.
+// Issue 35, defect 8: at a world offset of 1e9 the sparse depths are lost in COLMAP's float
+// arithmetic. The log said the images "see no sparse points" while they see all of them;
+// now it says why, and the summary accounts for every image.
+TEST(HostileGeometry, DepthRangeLostFarFromTheOriginIsExplained) {
+  test::TempDir tmp;
+  SyntheticSceneOptions options;
+  options.scene = "plane";
+  options.width = 64;
+  options.height = 48;
+  options.num_views = 3;
+  options.write_gt_points = false;
+  SyntheticScene shifted = RenderSyntheticScene(options);
+  const double offset[3] = {1e9, 1e9, 1e9};
+  for (SparseImage& image : shifted.model.images) {
+    double R[9];
+    QuaternionToRotationMatrix(image.qvec, R);
+    for (int i = 0; i < 3; ++i) {
+      image.tvec[i] -= R[3 * i] * offset[0] + R[3 * i + 1] * offset[1] + R[3 * i + 2] * offset[2];
+    }
+  }
+  for (SparsePoint3D& point : shifted.model.points) {
+    for (int i = 0; i < 3; ++i) point.xyz[i] += offset[i];
+  }
+  WriteSyntheticScene(shifted, tmp / "far");
+  std::string log;
+  const MpPatchMatchSummary summary = RunQuietly(tmp / "far", &log);
+  EXPECT_EQ(log.find("sees no sparse points"), std::string::npos) << log;
+  EXPECT_NE(log.find("far from the world origin"), std::string::npos) << log;
+  EXPECT_EQ(summary.num_references, 3);
+  EXPECT_EQ(summary.num_written + summary.num_skipped_no_depth_range + summary.num_skipped_no_sources, 3) << log;
+}
+
 TEST(HostileGeometry, GeoreferencedWorldOffsetKeepsAccuracy) {
   test::TempDir tmp;
   SyntheticSceneOptions options;

@@ -9,10 +9,12 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/sparse_model.h"
+#include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
 #include "colmap_ext/util/error.h"
@@ -391,14 +393,22 @@ TEST(Pipeline, PlainWallInsideATexturedFrameFollowsThePlane) {
 namespace mpmvs {
 namespace {
 
-// Every regular file under dir, by path relative to dir, with its bytes.
+// Every regular file under dir, by path relative to dir, with its bytes; the maps' records
+// without the files' modification times, which differ between any two runs.
 std::map<std::string, std::string> ReadTree(const std::string& dir) {
   std::map<std::string, std::string> files;
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
     std::ifstream in(entry.path(), std::ios::binary);
-    files[fs::relative(entry.path(), dir).string()] =
-        std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::string text;
+    if (entry.path().string().find(".maps.json") != std::string::npos) {
+      for (std::string line; std::getline(in, line);) {
+        if (line.find("\"mtime_ns\"") == std::string::npos) text += line + "\n";
+      }
+    } else {
+      text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    files[fs::relative(entry.path(), dir).string()] = text;
   }
   return files;
 }
@@ -413,10 +423,11 @@ void ExpectSameTrees(const std::string& a, const std::string& b) {
   }
 }
 
-// With CUDA the controller assembles the next reference image (images, source depth maps,
-// initial state, planar prior) while the current one runs. cpu_look_ahead takes that path on
-// the CPU: it must write exactly the files of the ordinary path, also when a rerun mixes
-// skipped, resumed and computed reference images.
+// While a reference image runs, the controller writes the previous image's outputs and
+// assembles the next one (images, source depth maps, initial state, planar prior): on the
+// CPU on a thread beside the passes (cpu_side_work), with CUDA while its kernels run. It
+// must write exactly the files of the serial order, also when a rerun mixes skipped,
+// resumed and computed reference images.
 TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   test::TempDir tmp;
   for (const char* name : {"plain", "ahead"}) test::WriteSmallPlaneScene(tmp / name, 80, 60, 4);
@@ -426,9 +437,12 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
   std::string last_stage;
   for (const char* name : {"plain", "ahead"}) {
     run.workspace_path = tmp / name;
-    run.cpu_look_ahead = std::string(name) == "ahead";
+    run.cpu_side_work = std::string(name) == "ahead";
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     EXPECT_EQ(summary.num_written, 4);
+    EXPECT_GT(summary.cpu_seconds, 0);
+    EXPECT_GE(summary.serial_seconds, 0);
+    EXPECT_LT(summary.serial_seconds, summary.seconds);
     ASSERT_GE(summary.stages.size(), 3u);
     last_stage = summary.stages.back().name;
   }
@@ -446,7 +460,7 @@ TEST(Pipeline, LookAheadAssemblyWritesIdenticalFiles) {
     }
     ASSERT_TRUE(fs::remove(ws + "/stereo/mpmvs/view_01.png." + last_stage + ".state.bin"));
     run.workspace_path = ws;
-    run.cpu_look_ahead = std::string(name) == "ahead";
+    run.cpu_side_work = std::string(name) == "ahead";
     const MpPatchMatchSummary summary = RunMpPatchMatchStereo(run);
     EXPECT_EQ(summary.num_written, 2);
     EXPECT_EQ(summary.stages.back().images_computed, 1);
@@ -527,6 +541,39 @@ TEST(Pipeline, StageByStageRunWithRemovedStatesResumesExactly) {
   }
   ExpectSameTrees(tmp / "one/stereo/depth_maps", tmp / "split/stereo/depth_maps");
   ExpectSameTrees(tmp / "one/stereo/normal_maps", tmp / "split/stereo/normal_maps");
+}
+
+// A depth map write that fails while the next image runs (the CPU's side work, on its own
+// thread) is the run's error, naming the file, as it was in the serial order; the images
+// written before it keep their maps.
+class FailingDepthWriteIo : public MpMvsWorkspaceIo {
+ public:
+  explicit FailingDepthWriteIo(std::string failing_name) : failing_name_(std::move(failing_name)) {}
+  void WriteDepthMap(const std::string& path, const FloatMap& depth, float depth_min, float depth_max) override {
+    if (path.find(failing_name_) != std::string::npos) throw Error("cannot write " + path + ": disk full");
+    MpMvsWorkspaceIo::WriteDepthMap(path, depth, depth_min, depth_max);
+  }
+
+ private:
+  std::string failing_name_;
+};
+
+TEST(Pipeline, WriteErrorDuringTheNextImageIsTheRunsError) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 80, 60, 4);
+  MpPatchMatchRun run;
+  run.workspace_path = tmp.path();
+  run.options.write_pictures = "none";
+  run.colmap_options.geom_consistency = false;  // one stage: view_01's maps are written while view_02 runs
+  FailingDepthWriteIo io("view_01.png.photometric");
+  try {
+    RunMpPatchMatchStereo(run, &io);
+    FAIL() << "the failed write was not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("view_01.png.photometric.bin: disk full"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(tmp.path() + "/stereo/depth_maps/view_00.png.photometric.bin"));
+  EXPECT_FALSE(fs::exists(tmp.path() + "/stereo/depth_maps/view_01.png.photometric.bin"));
 }
 
 }  // namespace

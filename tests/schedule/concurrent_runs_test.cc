@@ -10,6 +10,7 @@
 
 #include "colmap_ext/schedule/work_claims.h"
 #include "colmap_ext/util/file_util.h"
+#include "tests/io_test_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {
@@ -102,7 +103,7 @@ TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
     EXPECT_TRUE(other.RegisterRun("other-options").empty());
     EXPECT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "refused.log"), 1);
     const std::string log = test::ReadTextFile(tmp_ / "refused.log");
-    EXPECT_NE(log.find("another mp_patch_match_stereo run with other --MPMVS options (" + WorkClaims::ThisHost() +
+    EXPECT_NE(log.find("another mp_patch_match_stereo run with other options (" + WorkClaims::ThisHost() +
                        ":" + std::to_string(::getpid()) + ")"),
               std::string::npos)
         << log;
@@ -117,6 +118,92 @@ TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
   ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "after.log"), 0)
       << test::ReadTextFile(tmp_ / "after.log");
   EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+// Issue 35, defect 1: not only --MPMVS options; every option that changes a result takes part
+// in the check, COLMAP's and the patch-match.cfg the run reads. Run A (the default options)
+// is held on its first image by this test; runs with another max_image_size, filter, depth
+// range or configuration stop at once (timeout: before the fix they joined in and waited).
+TEST_F(ConcurrentRuns, RunWithOtherColmapOptionsOrConfigIsRefusedWhileOneRuns) {
+  WorkClaims other(Claims(), 600);
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  int rc = -1;
+  std::thread run_a([&] { rc = test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "a.log"); });
+  const bool waiting = WaitForText(tmp_ / "a.log", "to finish stage photometric");
+  std::string other_cfg;  // every image, with at most two sources instead of __auto__, 20
+  for (const auto& e : fs::directory_iterator(tmp_ / "shared/images")) {
+    other_cfg += e.path().filename().string() + "\n__auto__, 2\n";
+  }
+  test::WriteText(tmp_ / "other.cfg", other_cfg);
+  const std::vector<std::string> others = {"--PatchMatchStereo.max_image_size 48", "--PatchMatchStereo.filter 1",
+                                           "--PatchMatchStereo.depth_min 0.5 --PatchMatchStereo.depth_max 50",
+                                           "--config_path " + tmp_ / "other.cfg"};
+  std::vector<std::string> logs;
+  std::vector<int> rcs;
+  for (size_t k = 0; k < others.size(); ++k) {
+    const std::string log = tmp_ / ("b" + std::to_string(k) + ".log");
+    rcs.push_back(test::RunCommand("timeout 20 " + RunCommandLine(tmp_ / "shared") + " " + others[k], log));
+    logs.push_back(test::ReadTextFile(log));
+  }
+  other.Release(first_image_ + ".photometric");
+  run_a.join();
+  EXPECT_TRUE(waiting) << test::ReadTextFile(tmp_ / "a.log");
+  for (size_t k = 0; k < others.size(); ++k) {
+    EXPECT_EQ(rcs[k], 1) << others[k] << "\n" << logs[k];
+    EXPECT_NE(logs[k].find("another mp_patch_match_stereo run with other options"), std::string::npos)
+        << others[k] << "\n" << logs[k];
+  }
+  // Run A went on alone: the maps of one run with its options.
+  ASSERT_EQ(rc, 0) << test::ReadTextFile(tmp_ / "a.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+// Issue 35, defect 4: --MPMVS.image_list_path naming some images, run alone, waited forever
+// for results "that other processes compute". Alone (no other run with its options for
+// min(60 s, claim_lease)), it stops and says what to run; a killed wait releases its claims.
+TEST_F(ConcurrentRuns, ImageListRunAloneStopsSayingWhatToRun) {
+  test::WriteText(tmp_ / "list.txt", first_image_ + "\n");
+  const std::string cmd = "timeout 60 " + RunCommandLine(tmp_ / "shared") + " --MPMVS.image_list_path " +
+                          tmp_ / "list.txt" + " --MPMVS.claim_lease 3";
+  const auto start = std::chrono::steady_clock::now();
+  const int rc = test::RunCommand(cmd, tmp_ / "alone.log");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string log = test::ReadTextFile(tmp_ / "alone.log");
+  EXPECT_EQ(rc, 1) << log;
+  EXPECT_LT(seconds, 30) << log;
+  EXPECT_NE(log.find("no other mp_patch_match_stereo run with the same options"), std::string::npos) << log;
+  EXPECT_NE(log.find("without --MPMVS.image_list_path"), std::string::npos) << log;
+  int left = 0;
+  for (const auto& e : fs::recursive_directory_iterator(Claims())) left += e.is_regular_file();
+  EXPECT_EQ(left, 0) << log;
+
+  // The same list with the other images' run started beside it: both finish, the maps of one run.
+  test::RunCommand("rm -rf " + tmp_ / "shared/stereo/mpmvs");
+  const std::string list_run = RunCommandLine(tmp_ / "shared") + " --MPMVS.image_list_path " + tmp_ / "list.txt";
+  ASSERT_EQ(test::RunCommand("(" + list_run + " > " + tmp_ / "l.log" + " 2>&1 & " + RunCommandLine(tmp_ / "shared") +
+                             " > " + tmp_ / "all.log" + " 2>&1; r=$?; wait $! && exit $r)"),
+            0)
+      << test::ReadTextFile(tmp_ / "l.log") << test::ReadTextFile(tmp_ / "all.log");
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+TEST_F(ConcurrentRuns, KilledWaitLeavesNoClaimBehind) {
+  WorkClaims other(Claims(), 600);  // holds the first image, so that the run waits for it
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  test::RunCommand(RunCommandLine(tmp_ / "shared") + " > " + tmp_ / "killed.log" + " 2>&1 & echo $! > " +
+                   tmp_ / "pid");
+  const bool waiting = WaitForText(tmp_ / "killed.log", "to finish stage photometric");
+  const std::string pid = "$(cat " + tmp_ / "pid" + ")";
+  test::RunCommand("kill -TERM " + pid + "; while kill -0 " + pid + " 2>/dev/null; do sleep 0.1; done");
+  EXPECT_TRUE(waiting) << test::ReadTextFile(tmp_ / "killed.log");
+  other.Release(first_image_ + ".photometric");
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(Claims())) {
+    if (e.is_regular_file()) left.push_back(e.path());
+  }
+  EXPECT_TRUE(left.empty()) << left.front() << "\n" << test::ReadTextFile(tmp_ / "killed.log");
+  EXPECT_NE(test::ReadTextFile(tmp_ / "killed.log").find("interrupted"), std::string::npos)
+      << test::ReadTextFile(tmp_ / "killed.log");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Work claims: atomic creation, a live claim is respected, a dead holder's claim is taken
 // over, release removes it (schedule/work_claims.h).
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,13 +60,39 @@ TEST(WorkClaims, ClaimOfADeadProcessIsTakenOver) {
   ASSERT_TRUE(FileExists(me.ClaimPath("img.prior")));
   EXPECT_EQ(me.TryClaim("img.prior"), WorkClaims::Result::kClaimed);
 
-  // Another host's claim: honoured within its lease, taken over after it.
+  // Another host's claim: honoured within the (local) lease, taken over after it.
+  WorkClaims short_lease(tmp / "claims", 2);
   std::ofstream(me.ClaimPath("far.prior")) << "some-other-host 1 1 2\n";
   ClaimHolder holder;
-  EXPECT_EQ(me.TryClaim("far.prior", &holder), WorkClaims::Result::kHeld);
+  EXPECT_EQ(short_lease.TryClaim("far.prior", &holder), WorkClaims::Result::kHeld);
   EXPECT_EQ(holder.Describe(), "some-other-host:1");
   std::this_thread::sleep_for(std::chrono::milliseconds(3100));
-  EXPECT_EQ(me.TryClaim("far.prior"), WorkClaims::Result::kClaimed);
+  EXPECT_EQ(short_lease.TryClaim("far.prior"), WorkClaims::Result::kClaimed);
+}
+
+// Issue 35, defect 8: a foreign claim's own lease overrode the local --MPMVS.claim_lease
+// (a claim saying "lease 1" was taken over after 1 s by a process told to wait 600 s); and
+// a garbage claim file was printed raw into the log.
+TEST(WorkClaims, LocalLeaseDecidesAndGarbageClaimsAreNotPrinted) {
+  test::TempDir tmp;
+  WorkClaims me(tmp / "claims", 600);
+  CreateDirectories(tmp / "claims");
+  std::ofstream(me.ClaimPath("far.prior")) << "some-other-host 1 1 1\n";
+  std::this_thread::sleep_for(std::chrono::milliseconds(2100));
+  EXPECT_EQ(me.TryClaim("far.prior"), WorkClaims::Result::kHeld);
+
+  WorkClaims short_lease(tmp / "claims", 1);
+  std::ofstream(me.ClaimPath("junk.prior"), std::ios::binary) << "\x1b[31mjunk\xff 7 1 600\n";
+  struct timespec old_times[2] = {{1, 0}, {1, 0}};  // long unrefreshed
+  ::utimensat(AT_FDCWD, me.ClaimPath("junk.prior").c_str(), old_times, 0);
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  const WorkClaims::Result result = short_lease.TryClaim("junk.prior");
+  const std::string log = testing::internal::GetCapturedStdout() + testing::internal::GetCapturedStderr();
+  EXPECT_EQ(result, WorkClaims::Result::kClaimed) << log;
+  EXPECT_EQ(log.find("junk"), log.find("junk.prior")) << log;  // only the file name, never its bytes
+  EXPECT_EQ(log.find('\x1b'), std::string::npos) << log;
+  EXPECT_NE(log.find("unreadable"), std::string::npos) << log;
 }
 
 TEST(WorkClaims, HolderKeepsItsLeaseFresh) {

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -115,6 +117,112 @@ TEST(StaleOutputs, MapsOfAnotherImageSizeAreNotKept) {
       EXPECT_EQ(normal.width, 64) << name << " " << type;
     }
   }
+}
+
+// --- issue 36, item 9: a change of options is no damage --------------------------------------
+
+// Every file under dir whose name holds `part`.
+std::vector<std::string> FilesNamed(const std::string& dir, const std::string& part) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.path().filename().string().find(part) != std::string::npos) found.push_back(e.path());
+  }
+  return found;
+}
+
+int CountLines(const std::string& text, const std::string& part) {
+  int n = 0;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) n += Contains(line, part);
+  return n;
+}
+
+TEST(StaleOutputs, ChangedMaxImageSizeRecomputesTheMapsWithoutDebrisOrWarnings) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.colmap_options.max_image_size = 48;
+  ASSERT_EQ(RunCaptured(run).error, "");
+
+  run.colmap_options.max_image_size = -1;
+  const CapturedRun r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_EQ(r.summary.num_written, 3) << r.log;
+  EXPECT_EQ(FilesNamed(tmp / "stereo", ".damaged").size(), 0u) << r.log;
+  EXPECT_EQ(CountLines(r.log, "WARNING"), 0) << r.log;
+  // One line says what changed and that the maps are recomputed.
+  EXPECT_EQ(CountLines(r.log, "max_image_size"), 1) << r.log;
+  EXPECT_EQ(ReadFloatMap(Depth(tmp.path(), "view_01.png", "geometric"), 1).width, 64);
+}
+
+TEST(StaleOutputs, ChangedMpmvsResultOptionRecomputesTheMaps) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  ASSERT_EQ(RunCaptured(run).error, "");
+  const std::string geometric = Depth(tmp.path(), "view_00.png", "geometric");
+  const std::string seed1 = test::ReadTextFile(geometric);
+
+  run.options.seed = 7;
+  CapturedRun r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_FALSE(Contains(r.log, "nothing to do")) << r.log;
+  EXPECT_EQ(r.summary.num_written, 3) << r.log;
+  EXPECT_EQ(CountLines(r.log, "MPMVS.seed"), 1) << r.log;
+  EXPECT_TRUE(test::ReadTextFile(geometric) != seed1);
+  EXPECT_EQ(FilesNamed(tmp / "stereo", ".damaged").size(), 0u) << r.log;
+
+  // The same options again: the maps are kept.
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_EQ(r.summary.num_written, 0) << r.log;
+  EXPECT_EQ(r.summary.num_already_done, 3) << r.log;
+}
+
+// --- issue 35, defect 2: a valid header with a damaged payload ---------------------------------
+
+TEST(StaleOutputs, DamagedPayloadBehindAValidHeaderIsNotKept) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  const MpPatchMatchRun run = SmallRun(tmp.path());
+  ASSERT_EQ(RunCaptured(run).error, "");
+  const std::string depth0 = Depth(tmp.path(), "view_00.png", "geometric");
+  const std::string normal0 = tmp / "stereo/normal_maps/view_00.png.geometric.bin";
+  const std::string normal1 = tmp / "stereo/normal_maps/view_01.png.geometric.bin";
+  const std::string good_depth = test::ReadTextFile(depth0);
+  const std::string good_normal = test::ReadTextFile(normal0);
+
+  // Random values (some negative, one NaN) behind a valid header; another image's map.
+  {
+    FloatMap noise(64, 48, 1);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> dist(-5.f, 5.f);
+    for (float& v : noise.data) v = dist(rng);
+    noise.data[7] = std::nanf("");
+    WriteFloatMap(depth0, noise);
+  }
+  fs::copy_file(normal1, normal0, fs::copy_options::overwrite_existing);
+
+  CapturedRun r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(fs::exists(depth0 + ".damaged-1")) << r.log;
+  EXPECT_TRUE(fs::exists(normal0 + ".damaged-1")) << r.log;
+  EXPECT_TRUE(test::ReadTextFile(depth0) == good_depth);
+  EXPECT_TRUE(test::ReadTextFile(normal0) == good_normal);
+  EXPECT_EQ(r.summary.num_written, 1) << r.log;
+
+  // Without the maps' records (stereo/mpmvs deleted, or maps from COLMAP): the values are
+  // still checked (finite, not negative, inside the depth range; unit or zero normals).
+  fs::remove_all(tmp / "stereo/mpmvs");
+  const std::string depth1 = Depth(tmp.path(), "view_01.png", "photometric");
+  FloatMap map = ReadFloatMap(depth1, 1);
+  map.data[100] = -1.f;
+  WriteFloatMap(depth1, map);
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(fs::exists(depth1 + ".damaged-1")) << r.log;
+  EXPECT_TRUE(Contains(r.log, depth1)) << r.log;
+  EXPECT_EQ(r.summary.num_written, 1) << r.log;
 }
 
 // --- defect 4: intermediate state -----------------------------------------------------------
@@ -253,7 +361,10 @@ TEST(StaleOutputs, WrittenCountsEachReferenceOnceAndOnlyWithItsFinalMaps) {
     std::ofstream cfg(tmp / "stereo/patch-match.cfg");
     cfg << "view_00.png\n__all__\nview_01.png\n__all__\nview_00.png\n__all__\n";
   }
-  CapturedRun r = RunCaptured(SmallRun(tmp.path()));
+  // view_02, a source but no reference, is left out of the geometric stages (issue 35.5).
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.colmap_options.allow_missing_files = true;
+  CapturedRun r = RunCaptured(run);
   ASSERT_EQ(r.error, "") << r.log;
   EXPECT_EQ(r.summary.num_written, 2) << r.log;
   EXPECT_EQ(r.summary.num_references, 2);
@@ -274,6 +385,66 @@ TEST(StaleOutputs, WrittenCountsEachReferenceOnceAndOnlyWithItsFinalMaps) {
   EXPECT_FALSE(fs::exists(Depth(tmp2.path(), "view_00.png", "geometric")));
   EXPECT_FALSE(fs::exists(Depth(tmp2.path(), "view_02.png", "geometric")));
   EXPECT_EQ(r.summary.num_written, 0) << r.log;
+}
+
+// Issue 35, defect 5: a patch-match.cfg listing only some references. A source that is no
+// reference has no results for the geometric stages: as COLMAP on missing source maps, the
+// run stops before any work unless allow_missing_files leaves such sources out; a
+// reference listing itself is reported; the summary accounts for every image.
+TEST(StaleOutputs, ConfigWithSourcesThatAreNoReferencesStopsOrLeavesThemOutSaidSo) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  test::WriteText(tmp / "stereo/patch-match.cfg",
+                  "view_00.png\nview_01.png, view_02.png\nview_01.png\nview_01.png, view_00.png\n");
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  CapturedRun r = RunCaptured(run);
+  EXPECT_TRUE(Contains(r.error, "view_02.png")) << r.error << r.log;
+  EXPECT_TRUE(Contains(r.error, "allow_missing_files")) << r.error;
+  EXPECT_FALSE(fs::exists(Depth(tmp.path(), "view_00.png", "photometric")));
+
+  run.colmap_options.allow_missing_files = true;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "view_02.png")) << r.log;
+  EXPECT_EQ(r.summary.num_written, 2) << r.log;
+  EXPECT_EQ(r.summary.num_not_references, 1) << r.log;
+
+  // Without geometric stages nothing is missing.
+  test::TempDir tmp2;
+  test::WriteSmallPlaneScene(tmp2.path(), 64, 48, 3);
+  test::WriteText(tmp2 / "stereo/patch-match.cfg", "view_00.png\nview_00.png, view_01.png\n");
+  run = SmallRun(tmp2.path());
+  run.colmap_options.geom_consistency = false;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "lists itself as a source")) << r.log;
+  EXPECT_EQ(r.summary.num_written, 1);
+  EXPECT_EQ(r.summary.num_references, 1);
+  EXPECT_EQ(r.summary.num_not_references, 2);
+}
+
+// Issue 35, defect 8: in a single-stage run a source's missing result of the previous stage
+// was an error even with allow_missing_files, which in a whole run leaves such sources out.
+TEST(StaleOutputs, AllowMissingFilesLeavesOutASourceWithoutItsResultInAStageRun) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.options.stage = "photometric";
+  ASSERT_EQ(RunCaptured(run).error, "");
+  fs::remove(tmp / "stereo/mpmvs/view_02.png.photometric.state.bin");
+  // The stage for view_00 and view_01, whose own inputs are there; view_02 is their source.
+  test::WriteText(tmp / "list.txt", "view_00.png\nview_01.png\n");
+  run.options.image_list_path = tmp / "list.txt";
+  run.options.stage = "geometric1";
+  CapturedRun r = RunCaptured(run);
+  EXPECT_TRUE(Contains(r.error, "view_02.png.photometric.state.bin")) << r.error << r.log;
+  EXPECT_TRUE(Contains(r.error, "allow_missing_files")) << r.error;
+
+  run.colmap_options.allow_missing_files = true;
+  r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_TRUE(Contains(r.log, "source view_02.png has no photometric result")) << r.log;
+  EXPECT_TRUE(fs::exists(tmp / "stereo/mpmvs/view_00.png.geometric1.state.bin")) << r.log;
 }
 
 TEST(StaleOutputs, WorkspacePathThatIsAFileIsCalledAFile) {
