@@ -151,13 +151,16 @@ std::string StageScheduler::ClaimKey(int view) const {
   return workspace_.views[view].name + "." + plan_.pipeline.stages[stage_].name;
 }
 
-void StageScheduler::AwaitInputs() const {
+void StageScheduler::AwaitInputs() {
   const auto start = std::chrono::steady_clock::now();
   auto last_company = start;  // when another run with this run's options was last seen
   const double alone_limit = std::min(kAloneSeconds, plan_.claim_lease_seconds);
   std::unique_ptr<InterruptibleWait> interruptible;  // while waiting
   double next_report = 0;
-  for (;;) {
+  for (bool first = true;; first = false) {
+    // Another process may have finished what this one waits to compute, and removed the
+    // inputs that are no longer needed: judge again from the disk.
+    if (!first) needed_ = NeededStageResults(plan_, problems_, inputs_, store_);
     std::vector<std::string> missing;
     for (size_t i : mine_) {
       const ReferenceProblem& p = problems_[i];

@@ -67,7 +67,7 @@ class StageScheduler {
 
  private:
   // Waits for (or, in a --MPMVS.stage run, throws naming) the missing results the stage reads.
-  void AwaitInputs() const;
+  void AwaitInputs();
   // Claims and prepares this process's k-th image; nullptr when another live process holds
   // it and wait is false.
   std::unique_ptr<StageReference> ClaimAndPrepare(size_t k, bool wait);
@@ -81,7 +81,9 @@ class StageScheduler {
   std::unique_ptr<WorkClaims> claims_;
   StageInputs inputs_;
   std::vector<char> done_;                 // [problem] final maps whole at the start (kept)
-  std::vector<std::vector<char>> needed_;  // [problem][stage], at the start (stage_results.h)
+  // [problem][stage], at the start and again while a stage waits for other processes, which
+  // may meanwhile have finished this run's images and removed the states they read.
+  std::vector<std::vector<char>> needed_;  // (stage_results.h)
 
   // The stage under way.
   int stage_ = -1;
