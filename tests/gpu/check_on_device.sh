@@ -22,7 +22,8 @@
 #      exists): one photometric iteration, then the whole default pipeline; each run's log must
 #      name the backend it was meant for. `colmap-mp evaluate` scores both whole runs;
 #      nvidia-smi samples device memory every 100 ms during the GPU's whole run.
-#   7. OUT/report.md (device_report.py): agreement of the maps (share of the pixels with a depth
+#   7. OUT/report.md, written by this script (device_report.py; its layout: kernels/DESIGN_CUDA.md,
+#      "Checking on a device", step 7): agreement of the maps (share of the pixels with a depth
 #      in either map whose relative depth difference is <= 1e-4), F1@1 % of each, time per map,
 #      cost samples/s, peak device memory; the logs beside it (build.log, gpu_tests.log,
 #      runs.log). Exit 0 when every step ran, 1 when one failed, 2 on a usage or setup error.
@@ -122,7 +123,7 @@ command -v cmake > /dev/null || { echo "check_on_device.sh: needs cmake (setup.s
 rm -f "$OUT"/report.md "$OUT"/build.log "$OUT"/gpu_tests.log "$OUT"/runs.log
 log() { printf '[%4ds] %s\n' $((SECONDS - START)) "$*"; }
 
-# Writes OUT/report.md from what is there so far, prints it and exits with the check's status.
+# Writes OUT/report.md (the header lines below, then device_report.py's tables) from what is there so far, prints it and exits with the check's status.
 finish() {
   local status=$1
   {
@@ -136,11 +137,11 @@ finish() {
     echo "- GPU tests: ${GPU_TESTS:-not run}"
     printf '%s' "$CHECK_NOTES"
     echo "- Result: $([ "$status" -eq 0 ] && echo 'every step ran' || echo 'FAILED: see the notes and the logs beside this report')"
-  } > "$WORK/header.md"
+  } > "$WORK/header.txt"
   if [ -f "$WORK/scenes.txt" ]; then
-    python3 "$HERE/device_report.py" report "$WORK" "$OUT/report.md" || { status=1; cp "$WORK/header.md" "$OUT/report.md"; }
+    python3 "$HERE/device_report.py" report "$WORK" "$OUT/report.md" || { status=1; cp "$WORK/header.txt" "$OUT/report.md"; }
   else
-    cp "$WORK/header.md" "$OUT/report.md"
+    cp "$WORK/header.txt" "$OUT/report.md"
   fi
   if ls "$WORK"/*/log_*.txt > /dev/null 2>&1; then
     for f in "$WORK"/*/log_*.txt; do

@@ -5,8 +5,11 @@
                                                  geometric) depth maps agree (one JSON line)
   device_report.py scene SCENE_DIR               SCENE_DIR/scene.json from what the script left
                                                  there (layout: SCENE_FILES below)
-  device_report.py report WORK_DIR REPORT_MD     the report: WORK_DIR/header.md, then tables with
-                                                 a row per scene named in WORK_DIR/scenes.txt
+  device_report.py report WORK_DIR REPORT_MD     writes the report REPORT_MD: the header lines
+                                                 check_on_device.sh wrote to WORK_DIR/header.txt,
+                                                 then tables with a row per scene named in
+                                                 WORK_DIR/scenes.txt (layout: kernels/DESIGN_CUDA.md,
+                                                 "Checking on a device", step 7)
 
 Depth maps are read as colmap_ext/io/mat_io.cc writes them: the text header "W&H&C&", then
 W*H*C little-endian float32, channel-major (planar), each channel row-major; 0 = no depth.
@@ -179,7 +182,7 @@ def write_report(work_dir, report_path):
     for name in open(os.path.join(work_dir, "scenes.txt")).read().split():
         path = os.path.join(work_dir, name, "scene.json")
         scenes.append(json.load(open(path)) if os.path.exists(path) else {"scene": name, "notes": [f"{name}: not run"]})
-    lines = [open(os.path.join(work_dir, "header.md")).read().rstrip(), ""]
+    lines = [open(os.path.join(work_dir, "header.txt")).read().rstrip(), ""]
     lines += ["## Agreement of the depth maps, GPU against CPU",
               "",
               "Pixels with a depth in either map; a pixel with a depth in one map only disagrees. "
