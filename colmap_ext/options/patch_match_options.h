@@ -155,51 +155,45 @@ namespace mpmvs {
   X(int, claim_lease, 600, 600, 600, OptionRange::Closed(1, 86400), kRun,                                              \
     "seconds before a work claim of a silent process on another host is taken over")
 
-struct PatchMatchStereoOptions {
-#define MPMVS_FIELD(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
-  MPMVS_COLMAP_OPTIONS(MPMVS_FIELD)
-#undef MPMVS_FIELD
-
-  // Every declared option: visit(spec, field) (field: a reference to this struct's value).
+// Visit(visit) over every declared option of Options, for const and non-const objects alike:
+// Options::VisitFields(self, visit) calls visit once per option of its table.
+template <typename Options>
+struct VisitableOptions {
   template <typename Visitor>
-  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
+  void Visit(Visitor&& visit) { Options::VisitFields(static_cast<Options&>(*this), visit); }
   template <typename Visitor>
-  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
-
-  bool Check(std::string* error) const;
-
- private:
-  template <typename Self, typename Visitor>
-  static void VisitFields(Self& self, Visitor& visit) {
-#define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP)                                                          \
-  visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME);
-    MPMVS_COLMAP_OPTIONS(MPMVS_VISIT)
-#undef MPMVS_VISIT
-  }
+  void Visit(Visitor&& visit) const { Options::VisitFields(static_cast<const Options&>(*this), visit); }
 };
 
-struct GeneralOptions {
+// The fields of a COLMAP option table and visiting them as visit(spec, field).
 #define MPMVS_FIELD(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
-  MPMVS_GENERAL_OPTIONS(MPMVS_FIELD)
-#undef MPMVS_FIELD
-
-  // Every declared option: visit(spec, field).
-  template <typename Visitor>
-  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
-  template <typename Visitor>
-  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
-
-  bool Check(std::string* error) const;
-
- private:
-  template <typename Self, typename Visitor>
-  static void VisitFields(Self& self, Visitor& visit) {
 #define MPMVS_VISIT(TYPE, NAME, DEFAULT, RANGE, EFFECT, HELP) \
   visit(OptionSpec{#NAME, RANGE, OptionEffect::EFFECT, HELP}, self.NAME);
-    MPMVS_GENERAL_OPTIONS(MPMVS_VISIT)
-#undef MPMVS_VISIT
+
+struct PatchMatchStereoOptions : VisitableOptions<PatchMatchStereoOptions> {
+  MPMVS_COLMAP_OPTIONS(MPMVS_FIELD)
+
+  bool Check(std::string* error) const;
+
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor& visit) {
+    MPMVS_COLMAP_OPTIONS(MPMVS_VISIT)
   }
 };
+
+struct GeneralOptions : VisitableOptions<GeneralOptions> {
+  MPMVS_GENERAL_OPTIONS(MPMVS_FIELD)
+
+  bool Check(std::string* error) const;
+
+  template <typename Self, typename Visitor>
+  static void VisitFields(Self& self, Visitor& visit) {
+    MPMVS_GENERAL_OPTIONS(MPMVS_VISIT)
+  }
+};
+
+#undef MPMVS_VISIT
+#undef MPMVS_FIELD
 
 enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
 
@@ -213,21 +207,15 @@ struct OptionPresets {
   const T& default_value() const { return values[0]; }
 };
 
-struct MpMvsOptions {
+struct MpMvsOptions : VisitableOptions<MpMvsOptions> {
 #define MPMVS_FIELD(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP) TYPE NAME = DEFAULT;
   MPMVS_METHOD_OPTIONS(MPMVS_FIELD)
 #undef MPMVS_FIELD
 
-  // Every declared option: visit(spec, field, presets), presets.at(k) its value in preset k.
-  template <typename Visitor>
-  void Visit(Visitor&& visit) { VisitFields(*this, visit); }
-  template <typename Visitor>
-  void Visit(Visitor&& visit) const { VisitFields(*this, visit); }
-
   PlanarPriorMode PriorMode() const;
   bool Check(std::string* error) const;
 
- private:
+  // Every declared option: visit(spec, field, presets), presets.at(k) its value in preset k.
   template <typename Self, typename Visitor>
   static void VisitFields(Self& self, Visitor& visit) {
 #define MPMVS_VISIT(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)                                             \

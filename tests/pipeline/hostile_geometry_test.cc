@@ -5,6 +5,7 @@
 // wrong map.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -308,6 +309,20 @@ TEST(HostileGeometry, CamerasBehindBesideAndInsideTheSceneDoNotSpoilTheOthers) {
   }
 }
 
+// Moves the scene's world by offset (cameras and sparse points), as a georeferenced model is.
+void ShiftWorld(const std::array<double, 3>& offset, SyntheticScene* scene) {
+  for (SparseImage& image : scene->model.images) {
+    double R[9];
+    QuaternionToRotationMatrix(image.qvec, R);
+    for (int i = 0; i < 3; ++i) {
+      image.tvec[i] -= R[3 * i] * offset[0] + R[3 * i + 1] * offset[1] + R[3 * i + 2] * offset[2];
+    }
+  }
+  for (SparsePoint3D& point : scene->model.points) {
+    for (int i = 0; i < 3; ++i) point.xyz[i] += offset[i];
+  }
+}
+
 // The same scene with the world shifted by a few million metres (as UTM/ECEF-registered
 // models are) must give the same maps up to float rounding.
 // Issue 35, defect 8: at a world offset of 1e9 the sparse depths are lost in COLMAP's float
@@ -322,17 +337,7 @@ TEST(HostileGeometry, DepthRangeLostFarFromTheOriginIsExplained) {
   options.num_views = 3;
   options.write_gt_points = false;
   SyntheticScene shifted = RenderSyntheticScene(options);
-  const double offset[3] = {1e9, 1e9, 1e9};
-  for (SparseImage& image : shifted.model.images) {
-    double R[9];
-    QuaternionToRotationMatrix(image.qvec, R);
-    for (int i = 0; i < 3; ++i) {
-      image.tvec[i] -= R[3 * i] * offset[0] + R[3 * i + 1] * offset[1] + R[3 * i + 2] * offset[2];
-    }
-  }
-  for (SparsePoint3D& point : shifted.model.points) {
-    for (int i = 0; i < 3; ++i) point.xyz[i] += offset[i];
-  }
+  ShiftWorld({1e9, 1e9, 1e9}, &shifted);
   WriteSyntheticScene(shifted, tmp / "far");
   std::string log;
   const MpPatchMatchSummary summary = RunQuietly(tmp / "far", &log);
@@ -354,17 +359,7 @@ TEST(HostileGeometry, GeoreferencedWorldOffsetKeepsAccuracy) {
   const SyntheticScene scene = RenderSyntheticScene(options);
   WriteSyntheticScene(scene, tmp / "origin");
   SyntheticScene shifted = scene;
-  const double offset[3] = {3.5e6, 5.1e6, 200.0};
-  for (SparseImage& image : shifted.model.images) {
-    double R[9];
-    QuaternionToRotationMatrix(image.qvec, R);
-    for (int i = 0; i < 3; ++i) {
-      image.tvec[i] -= R[3 * i] * offset[0] + R[3 * i + 1] * offset[1] + R[3 * i + 2] * offset[2];
-    }
-  }
-  for (SparsePoint3D& point : shifted.model.points) {
-    for (int i = 0; i < 3; ++i) point.xyz[i] += offset[i];
-  }
+  ShiftWorld({3.5e6, 5.1e6, 200.0}, &shifted);
   WriteSyntheticScene(shifted, tmp / "shifted");
   RunQuietly(tmp / "origin");
   RunQuietly(tmp / "shifted");
