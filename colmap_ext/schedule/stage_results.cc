@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <utility>
 
 namespace mpmvs {
 namespace {
@@ -38,7 +39,7 @@ class Needs {
     if (!inputs_.Produces(s, view)) return false;  // never made, never read
     if (plan_.overwrite) return true;               // everything is computed again
     const std::string type = StageMapType(plan_.pipeline, s);
-    if (!type.empty() && !store_->FinalOutputsExist(view, type)) return true;  // its maps are still to write
+    if (!type.empty() && !FinalMapsExist(view, type)) return true;  // its maps are still to write
     const std::vector<StagePlan>& stages = plan_.pipeline.stages;
     for (int u = s + 1; u < static_cast<int>(stages.size()); ++u) {
       if (stages[u].input != s) continue;
@@ -58,7 +59,16 @@ class Needs {
     const int view = problems_[r].ref;
     if (!store_->HasState(view, plan_.pipeline.stages[u].name)) return true;
     const std::string type = StageMapType(plan_.pipeline, u);
-    return !type.empty() && WritesMapsFromInputs(plan_, u) && !store_->FinalOutputsExist(view, type);
+    return !type.empty() && WritesMapsFromInputs(plan_, u) && !FinalMapsExist(view, type);
+  }
+
+  // The store's check reads each map's record: once per view and type (an image is read by
+  // every image that has it as a source).
+  bool FinalMapsExist(int view, const std::string& type) {
+    const auto key = std::make_pair(view, type);
+    auto it = final_maps_exist_.find(key);
+    if (it == final_maps_exist_.end()) it = final_maps_exist_.emplace(key, store_->FinalOutputsExist(view, type)).first;
+    return it->second;
   }
 
   const RunPlan& plan_;
@@ -67,6 +77,7 @@ class Needs {
   StageStore* store_;
   std::vector<std::vector<size_t>> source_of_;
   std::vector<std::vector<signed char>> memo_;  // -1: not judged yet
+  std::map<std::pair<int, std::string>, bool> final_maps_exist_;
 };
 
 }  // namespace

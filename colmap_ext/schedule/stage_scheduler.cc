@@ -57,6 +57,8 @@ class InterruptibleWait {
 // How long a run that needs results of other processes waits while no other run with its
 // options is registered: long enough for runs started together to register.
 constexpr int kAloneSeconds = 60;
+// How often a waiting stage looks again at what it still needs (stage_results.h).
+constexpr int kRejudgeSeconds = 5;
 
 }  // namespace
 
@@ -157,10 +159,14 @@ void StageScheduler::AwaitInputs() {
   const double alone_limit = std::min(kAloneSeconds, plan_.claim_lease_seconds);
   std::unique_ptr<InterruptibleWait> interruptible;  // while waiting
   double next_report = 0;
-  for (bool first = true;; first = false) {
+  auto last_judged = start;
+  for (;;) {
     // Another process may have finished what this one waits to compute, and removed the
-    // inputs that are no longer needed: judge again from the disk.
-    if (!first) needed_ = NeededStageResults(plan_, problems_, inputs_, store_);
+    // inputs that are no longer needed: judge again from the disk now and then.
+    if (std::chrono::steady_clock::now() - last_judged > std::chrono::seconds(kRejudgeSeconds)) {
+      needed_ = NeededStageResults(plan_, problems_, inputs_, store_);
+      last_judged = std::chrono::steady_clock::now();
+    }
     std::vector<std::string> missing;
     for (size_t i : mine_) {
       const ReferenceProblem& p = problems_[i];
