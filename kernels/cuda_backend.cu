@@ -3,7 +3,7 @@
 // cuda_passes.h (the shared pass loop, thread bodies and launch layouts); memory, uploads
 // and streams are the CUDA session's (cuda_session.cu).
 // See DESIGN_CUDA.md.
-#include <cuda_runtime.h>
+#include "kernels/gpu_runtime.h"
 
 #include <stdexcept>
 #include <string>
@@ -32,17 +32,16 @@ static_assert((kBlockSideX * kBlockSideY) % 32 == 0, "blocks must be whole warps
 // ---------------------------------------------------------------------------------------
 // Device side: thin launchers around the shared per-pixel functions.
 
-__device__ __forceinline__ Dim2 ToDim2(const uint3& d) {
-  return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)};
-}
-__device__ __forceinline__ Dim2 ToDim2(const dim3& d) {
+// blockIdx, blockDim, threadIdx (uint3 or dim3 in CUDA, HIP's own coordinate types).
+template <typename Coordinates>
+__device__ __forceinline__ Dim2 ToDim2(const Coordinates& d) {
   return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)};
 }
 
 // Adds every thread's count to *counter: a warp sum, then one atomic per warp.
 __device__ __forceinline__ void AccumulateCount(uint32_t count, unsigned long long* counter) {
   for (int offset = 16; offset > 0; offset >>= 1)
-    count += __shfl_down_sync(0xffffffffu, count, offset);
+    count += ShuffleDown(count, offset);
   const unsigned lane = (threadIdx.y * blockDim.x + threadIdx.x) & 31u;
   if (lane == 0 && count > 0) atomicAdd(counter, static_cast<unsigned long long>(count));
 }
@@ -111,10 +110,12 @@ struct DeviceLaunch {
 
 }  // namespace
 
+const char* GpuRuntimeName() { return kGpuRuntimeName; }
+
 int CudaDeviceCount() {
   int count = 0;
   if (cudaGetDeviceCount(&count) != cudaSuccess) {
-    cudaGetLastError();  // no driver or no device: clear it so later CUDA calls start clean
+    (void)cudaGetLastError();  // no driver or no device: clear it so later CUDA calls start clean
     return 0;
   }
   return count;
@@ -122,7 +123,7 @@ int CudaDeviceCount() {
 
 bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   auto fail = [&](const std::string& reason) {
-    cudaGetLastError();  // clear a non-sticky error so later CUDA calls start clean
+    (void)cudaGetLastError();  // clear a non-sticky error so later CUDA calls start clean
     if (why) *why = reason;
     return false;
   };
@@ -133,20 +134,20 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   int count = 0;
   cudaError_t error = cudaGetDeviceCount(&count);
   if (error != cudaSuccess) return fail(cuda_reason("cudaGetDeviceCount", error));
-  if (count <= 0) return fail("no CUDA device found");
+  if (count <= 0) return fail(std::string("no ") + kGpuRuntimeName + " device found");
   if (gpu_index < 0 || gpu_index >= count) {
-    return fail("CUDA device index " + std::to_string(gpu_index) + " out of range (" +
-                std::to_string(count) + " device(s))");
+    return fail(std::string(kGpuRuntimeName) + " device index " + std::to_string(gpu_index) +
+                " out of range (" + std::to_string(count) + " device(s))");
   }
   error = cudaSetDevice(gpu_index);
   if (error != cudaSuccess) return fail(cuda_reason("cudaSetDevice", error));
   // Fails with cudaErrorNoKernelImageForDevice when the device's architecture is not among
   // the compiled ones (MPMVS_CUDA_ARCHITECTURES).
   cudaFuncAttributes attributes;
-  error = cudaFuncGetAttributes(&attributes, CheckerboardKernel);
+  error = cudaFuncGetAttributes(&attributes, reinterpret_cast<const void*>(&CheckerboardKernel));
   if (error != cudaSuccess) {
-    return fail("the PatchMatch kernels cannot run on CUDA device " + std::to_string(gpu_index) +
-                " (" + cuda_reason("cudaFuncGetAttributes", error) + ")");
+    return fail(std::string("the PatchMatch kernels cannot run on ") + kGpuRuntimeName + " device " +
+                std::to_string(gpu_index) + " (" + cuda_reason("cudaFuncGetAttributes", error) + ")");
   }
   if (why) why->clear();
   return true;

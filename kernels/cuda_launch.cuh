@@ -1,7 +1,7 @@
 #pragma once
 // The PatchMatch kernel launches (cuda_backend.cu), queued by the CUDA session
 // (cuda_session.cu), which owns the memory they read and write.
-#include <cuda_runtime.h>
+#include "kernels/gpu_runtime.h"
 
 #include <functional>
 

@@ -2,7 +2,7 @@
 // two streams and events, and runs the passes of cuda_backend.cu. Which uploads happen,
 // which entries are evicted and where each input goes is decided by the (CPU-tested)
 // planner; this file only carries it out. See DESIGN_CUDA.md.
-#include <cuda_runtime.h>
+#include "kernels/gpu_runtime.h"
 
 #include <cstdint>
 #include <cstring>
@@ -47,7 +47,7 @@ bool SupportsStreamOrderedAllocation(int device) {
   int supported = 0;
   if (cudaDeviceGetAttribute(&supported, cudaDevAttrMemoryPoolsSupported, device) !=
       cudaSuccess) {
-    cudaGetLastError();  // not sticky: treat as "not supported"
+    (void)cudaGetLastError();  // not sticky: treat as "not supported"
     return false;
   }
   if (supported) {
@@ -78,10 +78,10 @@ class CudaSession::Impl {
 
   ~Impl() {
     // Nothing queued may still use the memory freed here; no throwing from a destructor.
-    cudaSetDevice(device_);
-    cudaStreamSynchronize(copy_.get());
-    cudaStreamSynchronize(compute_.get());
-    for (auto& entry : entries_) cudaFree(entry.second);
+    (void)cudaSetDevice(device_);
+    (void)cudaStreamSynchronize(copy_.get());
+    (void)cudaStreamSynchronize(compute_.get());
+    for (auto& entry : entries_) (void)cudaFree(entry.second);
   }
 
   void Run(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,
@@ -270,7 +270,7 @@ void CudaSession::Impl::Run(const PatchMatchProblem& problem, const PatchMatchSc
     Impl* self;
     uint64_t ticket;
     ~Finish() {
-      cudaStreamSynchronize(self->compute_.get());
+      (void)cudaStreamSynchronize(self->compute_.get());
       self->planner_.Release(ticket);
     }
   } finish{this, current->plan.ticket};

@@ -15,6 +15,8 @@ namespace {
 }
 }  // namespace
 
+const char* GpuRuntimeName() { return "CUDA"; }
+
 int CudaDeviceCount() { return 0; }
 
 bool CudaDeviceAvailable(int, std::string* why) {

@@ -2,7 +2,7 @@
 // Small CUDA helpers of the CUDA backend (.cu files only): error checks and RAII owners of
 // streams, events, pinned host memory and device memory, so that errors (exceptions) do not
 // leak them.
-#include <cuda_runtime.h>
+#include "kernels/gpu_runtime.h"
 
 #include <cstddef>
 #include <stdexcept>
@@ -13,7 +13,7 @@ namespace kernels {
 
 [[noreturn]] inline void ThrowCudaError(cudaError_t error, const char* what, const char* file,
                                         int line) {
-  throw std::runtime_error(std::string("CUDA error in ") + what + " (" + file + ":" +
+  throw std::runtime_error(std::string(kGpuRuntimeName) + " error in " + what + " (" + file + ":" +
                            std::to_string(line) + "): " + cudaGetErrorName(error) + ": " +
                            cudaGetErrorString(error));
 }
@@ -31,7 +31,7 @@ class Stream {
   Stream() { MPMVS_CUDA_CHECK(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking)); }
   Stream(const Stream&) = delete;
   Stream& operator=(const Stream&) = delete;
-  ~Stream() { cudaStreamDestroy(stream_); }
+  ~Stream() { (void)cudaStreamDestroy(stream_); }
   cudaStream_t get() const { return stream_; }
 
  private:
@@ -45,7 +45,7 @@ class Event {
   }
   Event(const Event&) = delete;
   Event& operator=(const Event&) = delete;
-  ~Event() { cudaEventDestroy(event_); }
+  ~Event() { (void)cudaEventDestroy(event_); }
   cudaEvent_t get() const { return event_; }
 
  private:
@@ -89,7 +89,7 @@ class GrowingDeviceBuffer {
   GrowingDeviceBuffer(const GrowingDeviceBuffer&) = delete;
   GrowingDeviceBuffer& operator=(const GrowingDeviceBuffer&) = delete;
   ~GrowingDeviceBuffer() {
-    if (ptr_) cudaFree(ptr_);  // the owner synchronised its streams; no throwing here
+    if (ptr_) (void)cudaFree(ptr_);  // the owner synchronised its streams; no throwing here
   }
   // Queued on `stream`; the previous contents are not kept.
   void Reserve(size_t bytes, const DeviceAllocator& alloc, cudaStream_t stream) {
@@ -114,7 +114,7 @@ class PinnedBuffer {
   PinnedBuffer(const PinnedBuffer&) = delete;
   PinnedBuffer& operator=(const PinnedBuffer&) = delete;
   ~PinnedBuffer() {
-    if (ptr_) cudaFreeHost(ptr_);
+    if (ptr_) (void)cudaFreeHost(ptr_);
   }
   // The previous contents are not kept; the caller made sure no copy still reads them.
   void Reserve(size_t bytes) {

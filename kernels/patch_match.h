@@ -130,6 +130,10 @@ float CpuBackendNccCost(const RefPatch& patch, const ImageView& src, const float
                         const WindowSpec& window);
 const char* CpuBackendNccName();
 
+// The GPU runtime of this build's GPU backend: "CUDA" (also in builds without one) or "HIP"
+// (kernels/*.cu compiled by hipcc for AMD GPUs), for the messages that name the device.
+const char* GpuRuntimeName();
+
 // How many CUDA devices the driver reports; 0 without a driver, a device or CUDA in the build.
 int CudaDeviceCount();
 // Whether a CUDA device can be used (false with the reason in *why when the build has no

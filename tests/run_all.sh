@@ -5,9 +5,11 @@
 #   2. builds build-asan (CUDA off, ASan + UBSan incl. float-cast-overflow, aborting on the
 #      first report) and runs its tests except the long "quality" ones;
 #   3. builds build-tsan (CUDA off, ThreadSanitizer) and runs the CPU backend's and the
-#      stage loop's threaded tests.
+#      stage loop's threaded tests;
+#   4. compiles the GPU backend for AMD GPUs into build-hip with Debian's hipcc
+#      (tests/gpu/compile_hip.sh: installs hipcc when missing) and runs it without a GPU.
 # It runs every part, prints each part's time and fails when any part failed.
-# Usage: tests/run_all.sh [--no-sanitizers]
+# Usage: tests/run_all.sh [--no-sanitizers]  (only part 1)
 # MPMVS_RUN_WRAPPER, when set, prefixes every build and ctest command (e.g. "flock FILE" to
 # share a machine with other builds).
 set -uo pipefail
@@ -59,6 +61,7 @@ if [ "$sanitizers" = 1 ]; then
   # No address randomisation: TSan's fixed shadow layout clashes with high mmap entropy.
   part "TSan tests (build-tsan, CPU backend)" \
     run setarch "$(uname -m)" -R ctest --test-dir build-tsan --output-on-failure -j "$jobs" -R "$TSAN_TESTS" -LE quality
+  part "HIP build for AMD GPUs (build-hip)" run tests/gpu/compile_hip.sh build-hip
 fi
 
 echo "==== run_all: times"

@@ -18,8 +18,8 @@ Backend::Backend(const BackendOptions& options) : options_(options) {
     session.gpu_index = device;
     session.cache_size_bytes = options.cache_bytes;
     cuda_ = std::make_unique<kernels::CudaSession>(session);
-    name_ = "CUDA device " + std::to_string(device);
-    LogInfo("CUDA device cache budget: " + std::to_string(cuda_->CacheBudgetBytes() >> 20) +
+    name_ = std::string(kernels::GpuRuntimeName()) + " device " + std::to_string(device);
+    LogInfo(name_ + " cache budget: " + std::to_string(cuda_->CacheBudgetBytes() >> 20) +
             " MB (--PatchMatchStereo.cache_size, at most half the free device memory)");
   } else {
     const int threads = options.num_threads > 0
@@ -31,9 +31,9 @@ Backend::Backend(const BackendOptions& options) : options_(options) {
     const std::string cpu = "running on the CPU with " + std::to_string(threads) + " threads";
 #ifdef MPMVS_WITH_CUDA
     if (kernels::CudaDeviceCount() == 0) {
-      LogInfo("No CUDA device; " + cpu);
+      LogInfo(std::string("No ") + kernels::GpuRuntimeName() + " device; " + cpu);
     } else {
-      LogWarning("CUDA device " + std::to_string(device) + " cannot be used (" + why + "); " + cpu);
+      LogWarning(std::string(kernels::GpuRuntimeName()) + " device " + std::to_string(device) + " cannot be used (" + why + "); " + cpu);
     }
 #else
     LogInfo("This build has no CUDA backend; " + cpu);
@@ -98,7 +98,7 @@ void Backend::RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem,
 void Backend::LogCacheStats() const {
   if (!cuda_) return;
   const kernels::DeviceCacheStats s = cuda_->CacheStats();
-  LogInfo("CUDA device cache: " + std::to_string(s.misses) + " images/depth maps uploaded, " +
+  LogInfo(name_ + " cache: " + std::to_string(s.misses) + " images/depth maps uploaded, " +
           std::to_string(s.hits) + " found on the device, " + std::to_string(s.evictions) +
           " evicted, peak " + std::to_string(s.peak_bytes >> 20) + " MB of " +
           std::to_string(cuda_->CacheBudgetBytes() >> 20) + " MB; " +

@@ -107,7 +107,7 @@ def parse_run_log(path):
         seconds += sec
     if seconds > 0:
         out["samples_per_s"] = samples / seconds
-    m = re.search(r"CUDA device cache: .* peak (\d+) MB of (\d+) MB", text)
+    m = re.search(r"CUDA device \d+ cache: .* peak (\d+) MB of (\d+) MB", text)
     if m:
         out["cache_peak_mb"], out["cache_budget_mb"] = int(m.group(1)), int(m.group(2))
     return out
@@ -210,7 +210,7 @@ def write_report(work_dir, report_path):
               "Samples/s: cost samples (one window point matched in one source view) over the stages' wall "
               "time, host work between images included, so a lower bound of the device's rate. Device "
               "memory: peak of `nvidia-smi --query-gpu=memory.used` sampled every 100 ms during the GPU "
-              "run, minus the reading before it; cache: the log's `CUDA device cache` peak.",
+              "run, minus the reading before it; cache: the log's `CUDA device N cache` peak.",
               "",
               "| scene | F1 CPU | F1 GPU | GPU - CPU | s/map CPU | s/map GPU | speed-up | samples/s CPU "
               "| samples/s GPU | device memory MiB (peak - before) | device cache peak MB |",
