@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string.h>
 
-#if defined(__CUDACC__) || defined(__HIPCC__)
+#if defined(__CUDACC__) || (defined(__HIPCC__) && !defined(__HIP_CPU_RT__))
 #define MPMVS_HD __host__ __device__
 #define MPMVS_FORCE_INLINE __forceinline__
 #else

@@ -38,8 +38,14 @@ __device__ __forceinline__ Dim2 ToDim2(const Coordinates& d) {
   return Dim2{static_cast<int>(d.x), static_cast<int>(d.y)};
 }
 
-// Adds every thread's count to *counter: a warp sum, then one atomic per warp.
+// Adds every thread's count to *counter: a warp sum, then one atomic per warp. HIP-CPU has no
+// warps: its shuffles share one 64-lane scratchpad among all of a block's threads, so there
+// each thread adds its own count.
 __device__ __forceinline__ void AccumulateCount(uint32_t count, unsigned long long* counter) {
+#if defined(MPMVS_HIP_CPU)
+  if (count > 0) atomicAdd(counter, static_cast<unsigned long long>(count));
+  return;
+#endif
   for (int offset = 16; offset > 0; offset >>= 1)
     count += ShuffleDown(count, offset);
   const unsigned lane = (threadIdx.y * blockDim.x + threadIdx.x) & 31u;
@@ -83,11 +89,11 @@ struct DeviceLaunch {
            int counter) {
     unsigned long long* ncc_counter = buffers.counters + counter;
     if (kernel == PassKernel::kInitialize) {
-      InitializeKernel<<<ToDim3(layout.grid), ToDim3(layout.block), 0, stream>>>(
-          params, buffers.state, buffers.init_plane, buffers.init_cost, ncc_counter);
+      MPMVS_GPU_LAUNCH(InitializeKernel, ToDim3(layout.grid), ToDim3(layout.block), stream, params,
+                       buffers.state, buffers.init_plane, buffers.init_cost, ncc_counter);
     } else {
-      CheckerboardKernel<<<ToDim3(layout.grid), ToDim3(layout.block), 0, stream>>>(
-          params, buffers.state, ncc_counter);
+      MPMVS_GPU_LAUNCH(CheckerboardKernel, ToDim3(layout.grid), ToDim3(layout.block), stream, params,
+                       buffers.state, ncc_counter);
     }
     MPMVS_CUDA_CHECK(cudaGetLastError());
   }

@@ -44,6 +44,10 @@ int SelectDevice(const CudaSessionOptions& options) {
 }
 
 bool SupportsStreamOrderedAllocation(int device) {
+#if !MPMVS_GPU_HAS_MEMORY_POOLS
+  (void)device;
+  return false;
+#else
   int supported = 0;
   if (cudaDeviceGetAttribute(&supported, cudaDevAttrMemoryPoolsSupported, device) !=
       cudaSuccess) {
@@ -59,6 +63,7 @@ bool SupportsStreamOrderedAllocation(int device) {
     MPMVS_CUDA_CHECK(cudaMemPoolSetAttribute(pool, cudaMemPoolAttrReleaseThreshold, &keep));
   }
   return supported != 0;
+#endif
 }
 
 size_t CacheBudget(const CudaSessionOptions& options) {
@@ -74,7 +79,12 @@ class CudaSession::Impl {
   explicit Impl(const CudaSessionOptions& options)
       : device_(SelectDevice(options)),
         alloc_(SupportsStreamOrderedAllocation(device_)),
-        planner_(CacheBudget(options)) {}
+        planner_(CacheBudget(options)) {
+    // Each slot's event starts recorded (on the empty copy stream, so already complete): the
+    // first upload into a slot waits for it like every later one. CUDA and HIP would also
+    // accept waiting for an event never recorded; HIP-CPU refuses it.
+    for (Slot& slot : slots_) MPMVS_CUDA_CHECK(cudaEventRecord(slot.uploaded.get(), copy_.get()));
+  }
 
   ~Impl() {
     // Nothing queued may still use the memory freed here; no throwing from a destructor.

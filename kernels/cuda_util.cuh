@@ -41,7 +41,8 @@ class Stream {
 class Event {
  public:
   explicit Event(unsigned flags = cudaEventDefault) {
-    MPMVS_CUDA_CHECK(cudaEventCreateWithFlags(&event_, flags));
+    // The flags' own type: an unsigned int in CUDA and HIP, an enum in HIP-CPU.
+    MPMVS_CUDA_CHECK(cudaEventCreateWithFlags(&event_, static_cast<decltype(cudaEventDefault)>(flags)));
   }
   Event(const Event&) = delete;
   Event& operator=(const Event&) = delete;

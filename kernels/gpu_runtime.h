@@ -4,9 +4,12 @@
 // against CUDA's names; under HIP each one it uses is HIP's function or constant of the same
 // meaning. Kernels and launch syntax (<<<...>>>) are common to both: there is one copy of
 // every kernel. A CUDA name used by the backend and missing here fails the HIP build.
+// MPMVS_HIP_CPU: the same HIP code compiled by the host compiler against HIP-CPU, a runtime
+// that runs HIP programs on the CPU (tests/gpu/run_on_hip_cpu.sh), which has no launch syntax
+// and no memory pools.
 #include <cstdint>
 
-#if defined(__HIPCC__)
+#if defined(__HIPCC__) || defined(MPMVS_HIP_CPU)
 #include <hip/hip_runtime.h>
 
 #define cudaDevAttrMemoryPoolsSupported hipDeviceAttributeMemoryPoolsSupported
@@ -54,10 +57,21 @@
 #include <cuda_runtime.h>
 #endif
 
+#if defined(MPMVS_HIP_CPU)
+// HIP-CPU runs every stream's tasks on one thread and binds a queued wait to the event's
+// latest record only when the wait runs: a wait queued on one stream could block the thread
+// that has to run the other stream's record, and runs hung. The host waits instead (a
+// stronger order than the stream's; HIP-CPU overlaps nothing anyway).
+#undef cudaStreamWaitEvent
+#define cudaStreamWaitEvent(stream, event, flags) ((void)(stream), (void)(flags), hipEventSynchronize(event))
+#endif
+
 namespace mpmvs {
 namespace kernels {
 
-#if defined(__HIPCC__)
+#if defined(MPMVS_HIP_CPU)
+constexpr const char* kGpuRuntimeName = "HIP-CPU";
+#elif defined(__HIPCC__)
 constexpr const char* kGpuRuntimeName = "HIP";
 #else
 constexpr const char* kGpuRuntimeName = "CUDA";
@@ -75,3 +89,13 @@ __device__ __forceinline__ uint32_t ShuffleDown(uint32_t value, int offset) {
 
 }  // namespace kernels
 }  // namespace mpmvs
+
+// kernel<<<grid, block, 0, stream>>>(args...), in a form every runtime accepts.
+#if defined(MPMVS_HIP_CPU)
+#define MPMVS_GPU_LAUNCH(kernel, grid, block, stream, ...) \
+  hipLaunchKernelGGL(kernel, grid, block, 0, stream, __VA_ARGS__)
+#define MPMVS_GPU_HAS_MEMORY_POOLS 0
+#else
+#define MPMVS_GPU_LAUNCH(kernel, grid, block, stream, ...) kernel<<<grid, block, 0, stream>>>(__VA_ARGS__)
+#define MPMVS_GPU_HAS_MEMORY_POOLS 1
+#endif
