@@ -44,12 +44,12 @@ __device__ __forceinline__ Dim2 ToDim2(const Coordinates& d) {
 __device__ __forceinline__ void AccumulateCount(uint32_t count, unsigned long long* counter) {
 #if defined(MPMVS_HIP_CPU)
   if (count > 0) atomicAdd(counter, static_cast<unsigned long long>(count));
-  return;
-#endif
+#else
   for (int offset = 16; offset > 0; offset >>= 1)
     count += ShuffleDown(count, offset);
   const unsigned lane = (threadIdx.y * blockDim.x + threadIdx.x) & 31u;
   if (lane == 0 && count > 0) atomicAdd(counter, static_cast<unsigned long long>(count));
+#endif
 }
 
 __global__ void InitializeKernel(const PassParams params, const PixelState state,
