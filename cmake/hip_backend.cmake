@@ -20,7 +20,6 @@ set(MPMVS_HIP_FLAGS -x hip -c -O3 -std=c++17 -fPIC -Wall -Wextra -I${PROJECT_SOU
 foreach(arch IN LISTS MPMVS_HIP_ARCHITECTURES)
   list(APPEND MPMVS_HIP_FLAGS --offload-arch=${arch})
 endforeach()
-file(GLOB MPMVS_GPU_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/kernels/*.cu)
 file(GLOB MPMVS_GPU_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/kernels/*.h
   ${PROJECT_SOURCE_DIR}/kernels/*.cuh)
 set(MPMVS_HIP_OBJECTS)

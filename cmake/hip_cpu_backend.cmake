@@ -7,7 +7,6 @@ if(NOT EXISTS ${MPMVS_HIP_CPU_DIR}/include/hip/hip_runtime.h)
   message(FATAL_ERROR "MPMVS_HIP_CPU_DIR=${MPMVS_HIP_CPU_DIR} is not a HIP-CPU source tree (no include/hip/hip_runtime.h)")
 endif()
 find_package(TBB REQUIRED)  # HIP-CPU runs a kernel's blocks with the C++17 parallel algorithms
-file(GLOB MPMVS_GPU_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/kernels/*.cu)
 set_source_files_properties(${MPMVS_GPU_SOURCES} PROPERTIES LANGUAGE CXX)
 add_library(mpmvs_cuda STATIC ${MPMVS_GPU_SOURCES})
 target_compile_options(mpmvs_cuda PRIVATE -x c++)

@@ -137,12 +137,13 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
     return std::string(call) + " failed: " + cudaGetErrorName(error) + ": " +
            cudaGetErrorString(error);
   };
+  const std::string gpu = std::string(kGpuRuntimeName) + " device";
   int count = 0;
   cudaError_t error = cudaGetDeviceCount(&count);
   if (error != cudaSuccess) return fail(cuda_reason("cudaGetDeviceCount", error));
-  if (count <= 0) return fail(std::string("no ") + kGpuRuntimeName + " device found");
+  if (count <= 0) return fail("no " + gpu + " found");
   if (gpu_index < 0 || gpu_index >= count) {
-    return fail(std::string(kGpuRuntimeName) + " device index " + std::to_string(gpu_index) +
+    return fail(gpu + " index " + std::to_string(gpu_index) +
                 " out of range (" + std::to_string(count) + " device(s))");
   }
   error = cudaSetDevice(gpu_index);
@@ -152,8 +153,8 @@ bool CudaDeviceAvailable(int gpu_index, std::string* why) {
   cudaFuncAttributes attributes;
   error = cudaFuncGetAttributes(&attributes, reinterpret_cast<const void*>(&CheckerboardKernel));
   if (error != cudaSuccess) {
-    return fail(std::string("the PatchMatch kernels cannot run on ") + kGpuRuntimeName + " device " +
-                std::to_string(gpu_index) + " (" + cuda_reason("cudaFuncGetAttributes", error) + ")");
+    return fail("the PatchMatch kernels cannot run on " + gpu + " " + std::to_string(gpu_index) + " (" +
+                cuda_reason("cudaFuncGetAttributes", error) + ")");
   }
   if (why) why->clear();
   return true;

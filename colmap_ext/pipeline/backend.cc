@@ -13,12 +13,13 @@ namespace mpmvs {
 Backend::Backend(const BackendOptions& options) : options_(options) {
   std::string why;
   const int device = options.gpu_index < 0 ? 0 : options.gpu_index;
+  const std::string gpu = std::string(kernels::GpuRuntimeName()) + " device";  // "CUDA device"
   if (kernels::CudaDeviceAvailable(device, &why)) {
     kernels::CudaSessionOptions session;
     session.gpu_index = device;
     session.cache_size_bytes = options.cache_bytes;
     cuda_ = std::make_unique<kernels::CudaSession>(session);
-    name_ = std::string(kernels::GpuRuntimeName()) + " device " + std::to_string(device);
+    name_ = gpu + " " + std::to_string(device);
     LogInfo(name_ + " cache budget: " + std::to_string(cuda_->CacheBudgetBytes() >> 20) +
             " MB (--PatchMatchStereo.cache_size, at most half the free device memory)");
   } else {
@@ -31,9 +32,9 @@ Backend::Backend(const BackendOptions& options) : options_(options) {
     const std::string cpu = "running on the CPU with " + std::to_string(threads) + " threads";
 #ifdef MPMVS_WITH_CUDA
     if (kernels::CudaDeviceCount() == 0) {
-      LogInfo(std::string("No ") + kernels::GpuRuntimeName() + " device; " + cpu);
+      LogInfo("No " + gpu + "; " + cpu);
     } else {
-      LogWarning(std::string(kernels::GpuRuntimeName()) + " device " + std::to_string(device) + " cannot be used (" + why + "); " + cpu);
+      LogWarning(gpu + " " + std::to_string(device) + " cannot be used (" + why + "); " + cpu);
     }
 #else
     LogInfo("This build has no CUDA backend; " + cpu);

@@ -22,8 +22,8 @@
 #      exists): one photometric iteration, then the whole default pipeline; each run's log must
 #      name the backend it was meant for. `colmap-mp evaluate` scores both whole runs;
 #      nvidia-smi samples device memory every 100 ms during the GPU's whole run.
-#   7. OUT/report.md, written by this script (device_report.py; its layout: kernels/DESIGN_CUDA.md,
-#      "Checking on a device", step 7): agreement of the maps (share of the pixels with a depth
+#   7. The report $REPORT in OUT, written by this script (device_report.py; its layout:
+#      kernels/DESIGN_CUDA.md, "Checking on a device", step 7): agreement of the maps (share of the pixels with a depth
 #      in either map whose relative depth difference is <= 1e-4), F1@1 % of each, time per map,
 #      cost samples/s, peak device memory; the logs beside it (build.log, gpu_tests.log,
 #      runs.log). Exit 0 when every step ran, 1 when one failed, 2 on a usage or setup error.
@@ -120,10 +120,12 @@ SCENE_CUTOFF_S=300
 FAILED=0 CHECK_NOTES="" STEP_TIMES="" GPU_TESTS=""
 command -v python3 > /dev/null || { echo "check_on_device.sh: needs python3 (device_report.py)" >&2; exit 2; }
 command -v cmake > /dev/null || { echo "check_on_device.sh: needs cmake (setup.sh)" >&2; exit 2; }
-rm -f "$OUT"/report.md "$OUT"/build.log "$OUT"/gpu_tests.log "$OUT"/runs.log
+REPORT=$OUT/report.md
+rm -f "$REPORT" "$OUT"/build.log "$OUT"/gpu_tests.log "$OUT"/runs.log
 log() { printf '[%4ds] %s\n' $((SECONDS - START)) "$*"; }
 
-# Writes OUT/report.md (the header lines below, then device_report.py's tables) from what is there so far, prints it and exits with the check's status.
+# Writes $REPORT (the header lines below, then device_report.py's tables) from what is there
+# so far, prints it and exits with the check's status.
 finish() {
   local status=$1
   {
@@ -139,9 +141,9 @@ finish() {
     echo "- Result: $([ "$status" -eq 0 ] && echo 'every step ran' || echo 'FAILED: see the notes and the logs beside this report')"
   } > "$WORK/header.txt"
   if [ -f "$WORK/scenes.txt" ]; then
-    python3 "$HERE/device_report.py" report "$WORK" "$OUT/report.md" || { status=1; cp "$WORK/header.txt" "$OUT/report.md"; }
+    python3 "$HERE/device_report.py" report "$WORK" "$REPORT" || { status=1; cp "$WORK/header.txt" "$REPORT"; }
   else
-    cp "$WORK/header.txt" "$OUT/report.md"
+    cp "$WORK/header.txt" "$REPORT"
   fi
   if ls "$WORK"/*/log_*.txt > /dev/null 2>&1; then
     for f in "$WORK"/*/log_*.txt; do
@@ -149,7 +151,7 @@ finish() {
       cat "$f"
     done > "$OUT/runs.log"
   fi
-  cat "$OUT/report.md"
+  cat "$REPORT"
   exit "$status"
 }
 commit_text() {
@@ -319,5 +321,5 @@ done
 step_done "scenes"
 
 # ---- 7. Report ----------------------------------------------------------------------------
-log "report: $OUT/report.md"
+log "report: $REPORT"
 finish $FAILED

@@ -18,13 +18,9 @@ build=${1:-build-hip}
 archs=${MPMVS_HIP_ARCHITECTURES:-gfx90a}
 fail() { echo "compile_hip: $*" >&2; exit 1; }
 
-if ! command -v hipcc > /dev/null; then
-  echo "compile_hip: installing Debian's hipcc"
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq hipcc > /dev/null
-fi
+# shellcheck source=tests/gpu/install_missing.sh
+. tests/gpu/install_missing.sh
+command -v hipcc > /dev/null || install_missing hipcc || fail "could not install hipcc"
 command -v hipcc > /dev/null || fail "no hipcc (Debian 12: apt-get install hipcc)"
 
 config=$(cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMPMVS_ENABLE_HIP=ON \

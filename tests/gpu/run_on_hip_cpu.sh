@@ -22,7 +22,7 @@
 #      over the pixels with a depth in either map (share within 1e-4 relative depth, largest
 #      difference); then the whole default pipeline, each scored against ground truth (depth
 #      F1 at 1 %, geometric maps), and the GPU code's geometric maps against the reference's.
-# Prints the tables (also into build-hip-cpu/hip_cpu_check/table.md) and, as its last line,
+# Prints the tables (also into a file beside the logs in build-hip-cpu/hip_cpu_check) and, as its last line,
 # exactly: agreement NN.NN %, F1 cpu NN.NN, F1 gpu-code NN.NN (GPU code against the reference
 # CPU backend: the agreement after one iteration, the minimum over the scenes; the F1 of the
 # scene where the GPU code's falls furthest below the CPU's). Exit 0 when every step ran, 1
@@ -43,13 +43,10 @@ log() { printf '[%4ds] %s\n' $((SECONDS - START)) "$*"; }
 die() { log "FAILED: $*"; exit 1; }
 [ -x "$NATIVE_EXE" ] || { echo "run_on_hip_cpu.sh: no $NATIVE_EXE (run ./setup.sh first)" >&2; exit 2; }
 
-if ! dpkg-query -W -f='${Status}' libtbb-dev 2> /dev/null | grep -q "install ok installed"; then
-  log "installing Debian's libtbb-dev (HIP-CPU runs a kernel's blocks with C++17 parallel algorithms)"
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq libtbb-dev > /dev/null ||
-    die "could not install libtbb-dev"
-fi
+# HIP-CPU runs a kernel's blocks with the C++17 parallel algorithms (TBB).
+# shellcheck source=tests/gpu/install_missing.sh
+. "$REPO/tests/gpu/install_missing.sh"
+install_missing libtbb-dev || die "could not install libtbb-dev"
 mkdir -p "$BUILD"
 rm -rf "$OUT"
 mkdir -p "$OUT"
@@ -127,16 +124,18 @@ for scene in "${SCENES[@]}"; do
     agreement "$dir" cpu gpu geometric; } || die "$scene: agreement"
 done
 
-python3 - "$OUT" "${SCENES[@]}" << 'PYTHON'
+python3 - "$REPO/tests/gpu" "$OUT" "${SCENES[@]}" << 'PYTHON'
 import json, os, sys
-out, scenes = sys.argv[1], sys.argv[2:]
+sys.path.insert(0, sys.argv[1])
+from device_report import f1_at_1_percent
+out, scenes = sys.argv[2], sys.argv[3:]
 
 def f1(scene, side):
     path = os.path.join(out, scene, f"eval_{side}", "evaluation.json")
-    for t in json.load(open(path))["workspaces"][0]["depth"]["pooled"]["tolerances"]:
-        if abs(t["tolerance"] - 0.01) < 1e-9:
-            return 100 * t["f1"]
-    raise ValueError(f"no F1 at 1 % in {path}")
+    value = f1_at_1_percent(path)
+    if value is None:
+        raise ValueError(f"no F1 at 1 % in {path}")
+    return 100 * value
 
 def agreement(scene, a, b):
     return json.load(open(os.path.join(out, scene, f"agreement_{a}_{b}.json")))
@@ -160,7 +159,7 @@ for s in scenes:
     lines.append(f"| {s} | {gpu:.2f} | {cpu:.2f} | {native:.2f} |")
     if worst is None or gpu - cpu < worst[1] - worst[0]:
         worst = (cpu, gpu)
-open(os.path.join(out, "table.md"), "w").write("\n".join(lines) + "\n")
+open(os.path.join(out, "tables.txt"), "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 low = min(100 * agreement(s, "cpu_1it", "gpu_1it")["within_1e-4"] for s in scenes)
 print(f"agreement {low:.2f} %, F1 cpu {worst[0]:.2f}, F1 gpu-code {worst[1]:.2f}")
