@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 #include <nanoflann.hpp>
 
@@ -48,11 +49,14 @@ class DepthAccumulator {
     const double rel = std::abs(static_cast<double>(estimate) - gt) / gt;
     errors_.push_back(static_cast<float>(rel));
     for (size_t k = 0; k < tolerances_.size(); ++k) good_[k] += rel < tolerances_[k];
+    if (!tolerances_.empty() && rel >= tolerances_[0]) (estimate < gt ? too_near_ : too_far_) += 1;
   }
 
   void Merge(const DepthAccumulator& other) {
     num_gt_ += other.num_gt_;
     num_estimated_ += other.num_estimated_;
+    too_near_ += other.too_near_;
+    too_far_ += other.too_far_;
     for (size_t k = 0; k < good_.size(); ++k) good_[k] += other.good_[k];
     errors_.insert(errors_.end(), other.errors_.begin(), other.errors_.end());
   }
@@ -61,6 +65,8 @@ class DepthAccumulator {
     DepthPixelScore s;
     s.num_gt = num_gt_;
     s.num_estimated = num_estimated_;
+    s.num_too_near = too_near_;
+    s.num_too_far = too_far_;
     for (size_t k = 0; k < tolerances_.size(); ++k) {
       DepthScoreAtTolerance t;
       t.tolerance = tolerances_[k];
@@ -79,20 +85,28 @@ class DepthAccumulator {
   std::vector<double> tolerances_;
   int64_t num_gt_ = 0;
   int64_t num_estimated_ = 0;
+  int64_t too_near_ = 0, too_far_ = 0;
   std::vector<int64_t> good_;
   std::vector<float> errors_;
 };
 
-// Scores one image into the two accumulators.
+// Scores one image into the accumulators; surfaces (optional) holds one per label of
+// gt.surface (label k in surfaces[k - 1]).
 void AccumulateDepthMap(const FloatMap& estimate, const GtView& gt, DepthAccumulator* all,
-                        DepthAccumulator* untextured) {
+                        DepthAccumulator* untextured,
+                        std::vector<DepthAccumulator*>* surfaces = nullptr) {
   const int W = gt.depth.width, H = gt.depth.height;
   const bool has_mask = !gt.untextured.empty();
+  const bool has_surfaces = surfaces && !gt.surface.empty();
   auto add = [&](int gr, int gc, float est) {
-    const float z = gt.depth.data[static_cast<size_t>(gr) * W + gc];
+    const size_t p = static_cast<size_t>(gr) * W + gc;
+    const float z = gt.depth.data[p];
     if (!ValidDepth(z)) return;
     all->Add(z, est);
-    if (has_mask && gt.untextured[static_cast<size_t>(gr) * W + gc]) untextured->Add(z, est);
+    if (has_mask && gt.untextured[p]) untextured->Add(z, est);
+    if (has_surfaces && gt.surface[p] > 0 && gt.surface[p] <= surfaces->size()) {
+      (*surfaces)[gt.surface[p] - 1]->Add(z, est);
+    }
   };
   if (estimate.Empty()) {
     for (int r = 0; r < H; ++r) {
@@ -113,8 +127,9 @@ void AccumulateDepthMap(const FloatMap& estimate, const GtView& gt, DepthAccumul
 }
 
 DepthImageScore ScoreImage(const FloatMap& estimate, const GtView& gt, DepthAccumulator* all,
-                           DepthAccumulator* untextured) {
-  AccumulateDepthMap(estimate, gt, all, untextured);
+                           DepthAccumulator* untextured,
+                           std::vector<DepthAccumulator*>* surfaces = nullptr) {
+  AccumulateDepthMap(estimate, gt, all, untextured, surfaces);
   DepthImageScore s;
   s.name = gt.name;
   s.has_estimate = !estimate.Empty();
@@ -202,7 +217,32 @@ std::string ResolveGtDir(const std::string& gt_path) {
   return DirectoryExists(nested) ? nested : gt_path;
 }
 
+namespace {
+
+// The lines of gt/surfaces.txt (empty when absent): line k names surface label k.
+std::vector<std::string> ReadGtSurfaceNames(const std::string& gt_dir) {
+  const std::string path = GtSurfaceNamesPath(gt_dir);
+  std::vector<std::string> names;
+  if (!FileExists(path)) return names;
+  const std::vector<uint8_t> bytes = ReadFileBytes(path);
+  std::string line;
+  for (const uint8_t c : bytes) {
+    if (c == '\n') {
+      names.push_back(line);
+      line.clear();
+    } else if (c != '\r') {
+      line += static_cast<char>(c);
+    }
+  }
+  if (!line.empty()) names.push_back(line);
+  if (names.size() > 255) ThrowFileError(path, "more than 255 surfaces");
+  return names;
+}
+
+}  // namespace
+
 std::vector<GtView> LoadGtViews(const SparseModel& model, const std::string& gt_dir) {
+  const std::vector<std::string> surface_names = ReadGtSurfaceNames(gt_dir);
   std::vector<GtView> views;
   for (size_t i = 0; i < model.images.size(); ++i) {
     const SparseImage& image = model.images[i];
@@ -254,6 +294,25 @@ std::vector<GtView> LoadGtViews(const SparseModel& model, const std::string& gt_
       v.untextured.resize(mask.data.size());
       for (size_t p = 0; p < mask.data.size(); ++p) v.untextured[p] = mask.data[p] > 127.f;
     }
+    const std::string surface_path = GtSurfaceLabelPath(gt_dir, image.name);
+    if (!surface_names.empty() && FileExists(surface_path)) {
+      const GrayImage labels = ReadGrayImage(surface_path);
+      if (labels.width != v.depth.width || labels.height != v.depth.height) {
+        ThrowFileError(surface_path, "size " + std::to_string(labels.width) + "x" +
+                                         std::to_string(labels.height) + " differs from the GT depth");
+      }
+      v.surface.resize(labels.data.size());
+      for (size_t p = 0; p < labels.data.size(); ++p) {
+        const float k = std::round(labels.data[p]);
+        if (k > surface_names.size()) {
+          ThrowFileError(surface_path, "label " + std::to_string(static_cast<int>(k)) + " but " +
+                                           GtSurfaceNamesPath(gt_dir) + " names " +
+                                           std::to_string(surface_names.size()) + " surfaces");
+        }
+        v.surface[p] = static_cast<uint8_t>(k);
+      }
+      v.surface_names = surface_names;
+    }
     views.push_back(std::move(v));
   }
   if (views.empty()) {
@@ -278,9 +337,20 @@ DepthEvaluation EvaluateDepthMaps(const std::vector<GtView>& gt,
   DepthEvaluation e;
   e.tolerances = tolerances;
   DepthAccumulator pooled(tolerances), pooled_untextured(tolerances);
+  std::deque<DepthAccumulator> pooled_surfaces;  // e.surface_names[k]'s in entry k (stable addresses)
   for (size_t i = 0; i < gt.size(); ++i) {
+    // This view's labels, each to the pooled accumulator of its name.
+    std::vector<DepthAccumulator*> surfaces;
+    for (const std::string& name : gt[i].surface_names) {
+      const size_t k = std::find(e.surface_names.begin(), e.surface_names.end(), name) - e.surface_names.begin();
+      if (k == e.surface_names.size()) {
+        e.surface_names.push_back(name);
+        pooled_surfaces.emplace_back(tolerances);
+      }
+      surfaces.push_back(&pooled_surfaces[k]);
+    }
     DepthAccumulator all(tolerances), untextured(tolerances);
-    const DepthImageScore s = ScoreImage(estimates[i], gt[i], &all, &untextured);
+    const DepthImageScore s = ScoreImage(estimates[i], gt[i], &all, &untextured, &surfaces);
     e.has_masks = e.has_masks || s.has_mask;
     e.images.push_back(s);
     pooled.Merge(all);
@@ -288,6 +358,7 @@ DepthEvaluation EvaluateDepthMaps(const std::vector<GtView>& gt,
   }
   e.pooled = pooled.Finish();
   e.pooled_untextured = pooled_untextured.Finish();
+  for (const DepthAccumulator& a : pooled_surfaces) e.pooled_surfaces.push_back(a.Finish());
   return e;
 }
 

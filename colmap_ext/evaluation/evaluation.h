@@ -40,6 +40,10 @@ struct GtView {
   double t[3] = {0, 0, 0};
   PfmImage depth;                   // 0 / non-finite = unknown
   std::vector<uint8_t> untextured;  // 1 = untextured pixel; empty = no mask
+  // Named surfaces (gt/surface_<stem>.png, gt/surfaces.txt): surface[p] = k > 0 where pixel p
+  // shows surface_names[k - 1]; both empty when the GT names none.
+  std::vector<uint8_t> surface;
+  std::vector<std::string> surface_names;
 };
 
 // gt_path may be the folder holding depth_<stem>.pfm or a dataset folder with gt/ inside.
@@ -59,6 +63,8 @@ struct DepthPixelScore {
   int64_t num_gt = 0;         // pixels with valid GT
   int64_t num_estimated = 0;  // of those, pixels with an estimate (> 0)
   std::vector<DepthScoreAtTolerance> at;  // one per tolerance, same order
+  // Estimates off by at least the first tolerance, nearer / farther than the GT.
+  int64_t num_too_near = 0, num_too_far = 0;
   double median_rel_error = std::numeric_limits<double>::quiet_NaN();  // estimated pixels
 };
 
@@ -77,6 +83,9 @@ struct DepthEvaluation {
   DepthPixelScore pooled;
   DepthPixelScore pooled_untextured;
   bool has_masks = false;  // any image had an untextured mask
+  // Pooled over the images, per named surface (GtView::surface_names), in order of appearance.
+  std::vector<std::string> surface_names;
+  std::vector<DepthPixelScore> pooled_surfaces;
 };
 
 // Pixel-wise comparison on a common grid: when the estimate is smaller than the GT, every

@@ -73,6 +73,8 @@ Json DepthScoreJson(const DepthPixelScore& s) {
   return {{"num_gt_pixels", s.num_gt},
           {"num_estimated_pixels", s.num_estimated},
           {"median_relative_error", s.median_rel_error},
+          {"num_too_near", s.num_too_near},
+          {"num_too_far", s.num_too_far},
           {"tolerances", tolerances}};
 }
 
@@ -120,8 +122,27 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
       if (s.has_mask) out += DepthRow("  untex. " + s.name, s.untextured, s.has_estimate) + "\n";
     }
   }
+  // Named surfaces no image shows (a wall behind every camera) are left out of the tables.
+  for (size_t k = 0; k < d.surface_names.size(); ++k) {
+    if (d.pooled_surfaces[k].num_gt > 0) out += DepthRow("surface " + d.surface_names[k], d.pooled_surfaces[k], true) + "\n";
+  }
   out += "(percentages; acc = good / estimated GT pixels, comp = good / GT pixels, good = "
          "relative depth error below the tolerance)\n";
+  if (!d.surface_names.empty() && !d.tolerances.empty()) {
+    // Where each surface's GT pixels end: the sign of the error says what went wrong.
+    const std::string tol = TolName(d.tolerances[0]);
+    out += "\n" + PadRight("surface (pooled)", 23) + PadLeft("GT px", 9) + PadLeft("within " + tol, 11) +
+           PadLeft("too near", 10) + PadLeft("too far", 9) + PadLeft("no depth", 10) + "\n";
+    for (size_t k = 0; k < d.surface_names.size(); ++k) {
+      const DepthPixelScore& s = d.pooled_surfaces[k];
+      if (s.num_gt == 0) continue;
+      auto share = [&](int64_t n) { return s.num_gt ? Percent(static_cast<double>(n) / s.num_gt) : "-"; };
+      out += PadRight(Shorten(d.surface_names[k], 22), 23) + PadLeft(std::to_string(s.num_gt), 9) +
+             PadLeft(share(s.at.empty() ? 0 : s.at[0].num_good), 11) + PadLeft(share(s.num_too_near), 10) +
+             PadLeft(share(s.num_too_far), 9) + PadLeft(share(s.num_gt - s.num_estimated), 10) + "\n";
+    }
+    out += "(percent of the surface's GT pixels; too near / too far: off by " + tol + " or more)\n";
+  }
   if (e.has_cloud) {
     const PointCloudEvaluation& c = e.cloud;
     out += "\nPoint cloud " + c.fused_path + ": " + std::to_string(c.num_points) + " points (" +
@@ -241,6 +262,12 @@ std::string EvaluationJson(const std::vector<WorkspaceEvaluation>& evaluations,
                   {"tolerances", e.depth.tolerances},
                   {"pooled", DepthScoreJson(e.depth.pooled)}};
     if (e.depth.has_masks) depth["pooled_untextured"] = DepthScoreJson(e.depth.pooled_untextured);
+    if (!e.depth.surface_names.empty()) {
+      Json& surfaces = depth["pooled_surfaces"] = Json::array();
+      for (size_t k = 0; k < e.depth.surface_names.size(); ++k) {
+        surfaces.push_back({{"name", e.depth.surface_names[k]}, {"all", DepthScoreJson(e.depth.pooled_surfaces[k])}});
+      }
+    }
     Json& images = depth["images"] = Json::array();
     for (const DepthImageScore& s : e.depth.images) {
       Json image = {{"name", s.name}, {"has_estimate", s.has_estimate}, {"all", DepthScoreJson(s.all)}};

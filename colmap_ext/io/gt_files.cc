@@ -18,4 +18,10 @@ std::string GtUntexturedMaskPath(const std::string& gt_dir, const std::string& i
   return gt_dir + "/untextured_" + ImageStem(image_name) + ".png";
 }
 
+std::string GtSurfaceLabelPath(const std::string& gt_dir, const std::string& image_name) {
+  return gt_dir + "/surface_" + ImageStem(image_name) + ".png";
+}
+
+std::string GtSurfaceNamesPath(const std::string& gt_dir) { return gt_dir + "/surfaces.txt"; }
+
 }  // namespace mpmvs

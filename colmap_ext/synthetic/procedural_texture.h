@@ -3,6 +3,7 @@
 // evaluated as a solid texture at the 3-D surface point (no surface parametrisation is
 // needed, and every view sees the same albedo at the same point).
 #include <cstdint>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -26,6 +27,9 @@ struct SurfaceMaterial {
   // Light the surface gives off by itself (linear radiance added to the shaded albedo), e.g.
   // a bright window or a lamp panel. Not a light source for other surfaces.
   Eigen::Vector3d emission{0, 0, 0};
+  // The part of the scene this material makes, scored on its own by `evaluate` (e.g. "side
+  // walls", gt/surface_<stem>.png); empty: none.
+  std::string surface;
 
   bool Textured() const { return pattern != TexturePattern::kPlain; }
   bool Emissive() const { return emission.x() > 0 || emission.y() > 0 || emission.z() > 0; }

@@ -85,6 +85,13 @@ void SetRoomLighting(SyntheticWorld* w, const std::vector<ScenePointLight>& lamp
   w->background.color = Vector3d(0, 0, 0);  // unreachable: the rooms are closed
 }
 
+// The room shell's surfaces as scored on their own (gt/surface_<stem>.png).
+void NameShell(WorldBuilder* b, const std::vector<int>& walls, int ceiling, const std::vector<int>& floors) {
+  for (int m : walls) b->NameSurface(m, "walls");
+  b->NameSurface(ceiling, "ceiling");
+  for (int m : floors) b->NameSurface(m, "floor");
+}
+
 // Thin vertical pole with horizontal stripes and a lamp shade or cap on top.
 void AddStripedPole(WorldBuilder* b, const Vector3d& base, double height, int pole, int cap) {
   b->Add(MakeCylinder(base, kEz, 0.02, height, pole));
@@ -98,6 +105,7 @@ SyntheticLayout BuildRoomWindow(const LayoutParams& p) {
   const int paint = b.Plain({0.82, 0.80, 0.76});
   const int ceiling = b.Plain({0.88, 0.88, 0.87});
   const int carpet = b.Plain({0.46, 0.42, 0.38});
+  NameShell(&b, {paint}, ceiling, {carpet});
   const int frame = b.Plain({0.93, 0.93, 0.91});
   SurfaceMaterial glow;
   glow.color_a = Vector3d(0.9, 0.9, 0.9);
@@ -183,6 +191,7 @@ SyntheticLayout BuildRoomL(const LayoutParams& p) {
   // Polished concrete: a textured material, but its contrast is only a few grey levels.
   const int concrete =
       b.Pattern(TexturePattern::kNoise, {0.50, 0.48, 0.45}, {0.545, 0.525, 0.495}, 0.45);
+  NameShell(&b, {paint, accent}, ceiling, {concrete});
   AddWalls(&b, {{0, 0}, {7, 0}, {7, 3.2}, {3.2, 3.2}, {3.2, 7.5}, {0, 7.5}}, H,
            {paint, paint, paint, accent, paint, paint});
   AddHorizontal(&b, 0, 0, 7, 3.2, 0, concrete);
@@ -267,6 +276,7 @@ SyntheticLayout BuildRoomCorridor(const LayoutParams& p) {
   const int paint = b.Plain({0.76, 0.80, 0.74});
   const int ceiling = b.Plain({0.90, 0.90, 0.89});
   const int tiles = b.Pattern(TexturePattern::kChecker, {0.46, 0.44, 0.41}, {0.62, 0.60, 0.56}, 0.4);
+  NameShell(&b, {paint}, ceiling, {tiles});
   AddWalls(&b, {{-1, 0}, {1, 0}, {1, 8}, {7, 8}, {7, 10}, {-1, 10}}, H,
            {paint, paint, paint, paint, paint, paint});
   AddHorizontal(&b, -1, 0, 1, 10, 0, tiles);
@@ -355,9 +365,81 @@ SyntheticLayout BuildRoomCorridor(const LayoutParams& p) {
   return layout;
 }
 
+
+SyntheticLayout BuildRoomSweep(const LayoutParams& p) {
+  WorldBuilder b(p.seed);
+  // Long hall x in [-2.2, 2.2], y in [0, 9], z in [0, 2.6]; the far wall is y = 9. The
+  // cameras translate across it near y = 0.9 facing the far wall, so the side walls (and
+  // floor and ceiling) are seen at 60-85 degrees of incidence.
+  const double X = 2.2, Y = 9.0, H = 2.6;
+  const int side = b.Plain({0.80, 0.79, 0.75});
+  const int far_wall = b.Plain({0.78, 0.80, 0.82});
+  const int back = b.Plain({0.80, 0.79, 0.75});
+  const int ceiling = b.Plain({0.88, 0.88, 0.87});
+  const int floor = b.Plain({0.52, 0.47, 0.41});
+  b.NameSurface(side, "side walls");
+  b.NameSurface(far_wall, "far wall");
+  b.NameSurface(back, "walls");
+  b.NameSurface(ceiling, "ceiling");
+  b.NameSurface(floor, "floor");
+  AddWalls(&b, {{-X, 0}, {X, 0}, {X, Y}, {-X, Y}}, H, {back, side, far_wall, side});
+  AddHorizontal(&b, -X, 0, X, Y, 0, floor);
+  AddHorizontal(&b, -X, 0, X, Y, H, ceiling);
+
+  const int books = b.Pattern(TexturePattern::kStripes, {0.55, 0.15, 0.12}, {0.20, 0.35, 0.60},
+                              0.04, Vector3d(1, 0.2, 0));
+  const int poster = b.Pattern(TexturePattern::kNoise, {0.10, 0.28, 0.58}, {0.95, 0.90, 0.72}, 0.09);
+  const int picture = b.Pattern(TexturePattern::kChecker, {0.14, 0.14, 0.16}, {0.90, 0.88, 0.80}, 0.08);
+  const int door = b.Pattern(TexturePattern::kStripes, {0.42, 0.28, 0.16}, {0.66, 0.48, 0.30},
+                             0.045, Vector3d(0.05, 0.1, 1.0));
+  const int cloth = b.Pattern(TexturePattern::kMixed, {0.15, 0.25, 0.50}, {0.85, 0.85, 0.90}, 0.07);
+  const int rug = b.Pattern(TexturePattern::kMixed, {0.60, 0.22, 0.16}, {0.92, 0.82, 0.52}, 0.12);
+  const int radiator = b.Pattern(TexturePattern::kStripes, {0.55, 0.55, 0.55}, {0.92, 0.92, 0.90},
+                                 0.04, kEy);
+  const int pot = b.Pattern(TexturePattern::kNoise, {0.55, 0.28, 0.16}, {0.80, 0.50, 0.32}, 0.05);
+  const int leaves = b.Pattern(TexturePattern::kNoise, {0.10, 0.30, 0.08}, {0.45, 0.62, 0.20}, 0.08);
+  const int pole = b.Pattern(TexturePattern::kStripes, {0.10, 0.10, 0.12}, {0.92, 0.90, 0.30},
+                             0.05, kEz);
+  const int shade = b.Pattern(TexturePattern::kNoise, {0.85, 0.80, 0.65}, {0.55, 0.45, 0.30}, 0.04);
+
+  b.Add(MakeBox({-2.15, 8.45, 0}, {-1.2, 8.95, 2.0}, books));       // bookshelf, far left corner
+  b.Add(MakeQuad({0.5, Y - 0.01, 1.55}, kEx, kEz, 0.55, 0.4, poster));  // on the far wall
+  b.Add(MakeQuad({X - 0.005, 3.2, 1.0}, kEy, kEz, 0.45, 1.0, door));  // side walls: little on them
+  b.Add(MakeQuad({-X + 0.01, 6.0, 1.55}, kEy, kEz, 0.35, 0.28, picture));
+  b.Add(MakeBox({-X + 0.01, 2.4, 0.15}, {-X + 0.08, 3.6, 0.75}, radiator));
+  b.Add(MakeBox({1.35, 5.2, 0}, {2.15, 7.0, 0.45}, cloth));         // sofa against the right wall
+  b.Add(MakeBox({1.85, 5.2, 0.45}, {2.15, 7.0, 0.85}, cloth));
+  b.Add(MakeQuad({-0.2, 5.0, 0.004}, kEx, kEy, 0.9, 1.2, rug));
+  b.Add(MakeCylinder({1.8, 8.5, 0}, kEz, 0.22, 0.45, pot));          // plant, far right corner
+  b.Add(MakeSphere({1.8, 8.5, 0.92}, 0.42, leaves));
+  AddStripedPole(&b, {-1.6, 4.2, 0}, 1.55, pole, shade);
+
+  SyntheticWorld& w = b.world();
+  // A ceiling light 12 cm under the ceiling with little softness: its hot spot saturates and
+  // falls off steeply over the plain ceiling; a weaker lamp lights the rest of the hall.
+  SetRoomLighting(&w, {Lamp({0.3, 4.6, H - 0.12}, 0.5, 0.06), Lamp({0.0, 2.5, 2.0}, 0.8, 0.9)},
+                  Vector3d(0.1, 0.6, -0.8), 0.12, 0.30, 0.85);
+  w.geometry.Build();
+
+  SyntheticLayout layout;
+  layout.world = std::move(b.world());
+  SynthRng rng(SynthHash(p.seed, 0x5ee9a11ULL));
+  const int n = p.num_views;
+  for (int i = 0; i < n; ++i) {
+    // Across the hall from left to right, facing the far wall.
+    const Vector3d center(3.0 * Spread(i, n) + rng.Uniform(-0.05, 0.05), 0.9 + rng.Uniform(-0.1, 0.1),
+                          1.55 + rng.Uniform(-0.06, 0.06));
+    const double yaw = rng.Uniform(-4, 4) * kDegToRad;
+    const double pitch = ((i % 3 == 1) ? 4.0 : -3.0) + rng.Uniform(-2, 2);
+    const Vector3d dir(std::sin(yaw), std::cos(yaw), std::tan(pitch * kDegToRad));
+    layout.cameras.push_back(RoomCamera(p, center, center + 3.0 * dir, rng.Uniform(-3, 3)));
+  }
+  return layout;
+}
+
 }  // namespace
 
-std::vector<std::string> RoomLayoutNames() { return {"room_window", "room_l", "room_corridor"}; }
+std::vector<std::string> RoomLayoutNames() { return {"room_window", "room_l", "room_corridor", "room_sweep"}; }
 
 bool IsRoomLayout(const std::string& name) {
   const std::vector<std::string> names = RoomLayoutNames();
@@ -368,6 +450,7 @@ SyntheticLayout BuildRoomLayout(const LayoutParams& params) {
   if (params.scene == "room_window") return BuildRoomWindow(params);
   if (params.scene == "room_l") return BuildRoomL(params);
   if (params.scene == "room_corridor") return BuildRoomCorridor(params);
+  if (params.scene == "room_sweep") return BuildRoomSweep(params);
   throw Error("unknown room layout '" + params.scene + "'");
 }
 

@@ -7,7 +7,12 @@
 //   room_l         L-shaped room with a large, weakly textured concrete floor, cameras on
 //                  a path along the outer walls turning round the corner;
 //   room_corridor  long narrow corridor with a side branch, ceiling lamp panels, cameras
-//                  walking forward and turning into the branch.
+//                  walking forward and turning into the branch;
+//   room_sweep     long hall, cameras translating across it while facing its far wall, so
+//                  the plain side walls, floor and ceiling are seen at grazing angles
+//                  (60-85 degrees); a ceiling light whose hot spot saturates.
+// The shell's materials name their surfaces ("walls", "side walls", "far wall", "floor",
+// "ceiling") for the per-surface scores of `evaluate`.
 // Intrinsics: PINHOLE, fx = 0.8 width (512 px at 640), slightly off-centre principal point.
 #include <string>
 #include <vector>

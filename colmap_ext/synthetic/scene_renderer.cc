@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "colmap_ext/synthetic/synthetic_random.h"
+#include "colmap_ext/util/error.h"
 #include "colmap_ext/util/thread_range.h"
 
 namespace mpmvs {
@@ -159,6 +160,17 @@ SyntheticCamera LookAtCamera(const Eigen::Vector3d& center, const Eigen::Vector3
   return cam;
 }
 
+std::vector<std::string> SurfaceNames(const SyntheticWorld& world) {
+  std::vector<std::string> names;
+  for (const SurfaceMaterial& m : world.materials) {
+    if (!m.surface.empty() && std::find(names.begin(), names.end(), m.surface) == names.end()) {
+      names.push_back(m.surface);
+    }
+  }
+  if (names.size() > 255) throw Error("more than 255 named surfaces");
+  return names;
+}
+
 RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& camera,
                         const RenderOptions& options) {
   const int w = camera.width, h = camera.height;
@@ -168,6 +180,13 @@ RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& came
   view.depth = FloatMap(w, h, 1);
   view.normal = FloatMap(w, h, 3);
   view.untextured.assign(plane, 0);
+  view.surface.assign(plane, 0);
+  const std::vector<std::string> surface_names = SurfaceNames(world);
+  std::vector<uint8_t> material_surface(world.materials.size(), 0);
+  for (size_t m = 0; m < world.materials.size(); ++m) {
+    const auto it = std::find(surface_names.begin(), surface_names.end(), world.materials[m].surface);
+    if (it != surface_names.end()) material_surface[m] = static_cast<uint8_t>(it - surface_names.begin() + 1);
+  }
   std::vector<float> linear(3 * plane);  // planar r, g, b after the tone curve
   const double exposure = world.lighting.exposure;
 
@@ -188,6 +207,7 @@ RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& came
           if (!world.materials[hit.material].Textured()) {
             view.untextured[static_cast<size_t>(row) * w + col] = 255;
           }
+          view.surface[static_cast<size_t>(row) * w + col] = material_surface[hit.material];
         }
         // Colour: average of s x s samples spread over the pixel around its centre.
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();

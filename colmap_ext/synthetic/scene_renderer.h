@@ -96,7 +96,14 @@ struct RenderedView {
   FloatMap depth;   // 1 channel z-depth (m), 0 where the ray hits no surface
   FloatMap normal;  // 3 channels, camera frame, facing the camera, 0 where no surface
   std::vector<uint8_t> untextured;  // 255 where the surface at the pixel centre is plain
+  // Where the surface at the pixel centre is a named one (SurfaceMaterial::surface): its
+  // position in SurfaceNames(world) plus 1; 0 elsewhere.
+  std::vector<uint8_t> surface;
 };
+
+// The distinct SurfaceMaterial::surface names of the world's materials, in material order
+// (at most 255).
+std::vector<std::string> SurfaceNames(const SyntheticWorld& world);
 
 RenderedView RenderView(const SyntheticWorld& world, const SyntheticCamera& camera,
                         const RenderOptions& options);

@@ -7,7 +7,7 @@
 //   plane   one textured plane, optionally tilted away from all cameras (sanity case);
 //   plain_wall  a plain, lamp-lit wall framed by textured posters, two boxes in front
 //           (the planar prior's case: only the frame and the boxes can be matched);
-//   room_window, room_l, room_corridor   multi-view rooms (room_layouts.h).
+//   room_window, room_l, room_corridor, room_sweep   multi-view rooms (room_layouts.h).
 // World frame: z up, metres.
 #include <string>
 #include <vector>

@@ -204,6 +204,7 @@ SyntheticScene RenderSyntheticScene(const SyntheticSceneOptions& options) {
   SyntheticScene scene;
   scene.options = options;
   scene.plane_view_angles_deg = layout.plane_view_angles_deg;
+  scene.surface_names = SurfaceNames(layout.world);
   SynthRng exposure_rng(SynthHash(seed, 0xe7b05e));
   std::vector<SyntheticCamera> cameras;
   std::vector<std::string> names;
@@ -304,6 +305,9 @@ void WriteSyntheticScene(const SyntheticScene& scene, const std::string& dir) {
     pfm.data = v.render.depth.data;
     WritePfm(GtDepthPath(gt, v.name), pfm);
     WriteGrayPng(GtUntexturedMaskPath(gt, v.name), pfm.width, pfm.height, v.render.untextured);
+    if (!scene.surface_names.empty()) {
+      WriteGrayPng(GtSurfaceLabelPath(gt, v.name), pfm.width, pfm.height, v.render.surface);
+    }
     WriteFloatMap(JoinPaths(gt, "depth_maps/" + v.name + ".bin"), v.render.depth);
     WriteFloatMap(JoinPaths(gt, "normal_maps/" + v.name + ".bin"), v.render.normal);
     patch_match_cfg += v.name + "\n__auto__, 20\n";
@@ -319,6 +323,11 @@ void WriteSyntheticScene(const SyntheticScene& scene, const std::string& dir) {
   WriteTextFile(JoinPaths(stereo, "fusion.cfg"), fusion_cfg);
   if (scene.options.write_gt_points) WritePlyPointCloud(JoinPaths(gt, "gt_points.ply"), gt_cloud);
   WriteTextFile(JoinPaths(gt, "scene_info.json"), SceneInfoJson(scene));
+  if (!scene.surface_names.empty()) {
+    std::string lines;
+    for (const std::string& name : scene.surface_names) lines += name + "\n";
+    WriteTextFile(GtSurfaceNamesPath(gt), lines);
+  }
 }
 
 SyntheticScene GenerateSyntheticScene(const SyntheticSceneOptions& options, const std::string& dir) {

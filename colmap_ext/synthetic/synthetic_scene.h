@@ -7,6 +7,8 @@
 //   DIR/stereo/patch-match.cfg, fusion.cfg, depth_maps/, normal_maps/, consistency_graphs/
 //   DIR/gt/depth_<stem>.pfm                   z-depth (m), 0 = no surface
 //   DIR/gt/untextured_<stem>.png              255 where the surface MATERIAL is plain
+//   DIR/gt/surface_<stem>.png, surfaces.txt   named surfaces (rooms): line k of surfaces.txt
+//                                             names the pixels of value k, 0 = none
 //   DIR/gt/depth_maps/NAME.bin, normal_maps/NAME.bin   COLMAP-layout GT maps
 //   DIR/gt/gt_points.ply                      every valid GT pixel of every view, back-projected
 //   DIR/gt/scene_info.json                    options, cameras, per-view statistics
@@ -24,7 +26,7 @@
 namespace mpmvs {
 
 struct SyntheticSceneOptions {
-  // indoor, facade, plane, or a room (room_window, room_l, room_corridor). The defaults
+  // indoor, facade, plane, or a room (room_window, room_l, room_corridor, room_sweep). The defaults
   // below are those of indoor/facade/plane; ForScene gives the rooms' defaults.
   std::string scene = "indoor";
   int width = 320;
@@ -85,6 +87,7 @@ struct SyntheticScene {
   SparseModel model;  // images in view order, ids 1..n
   SparsePointLabels sparse_labels;  // where the sparse points lie, from the GT
   std::vector<double> plane_view_angles_deg;  // plane scene only
+  std::vector<std::string> surface_names;     // SurfaceNames of the world (rooms)
 };
 
 // Share of GT pixels (depth > 0) on plain material, over all views.

@@ -2,6 +2,7 @@
 // Helpers shared by the synthetic scene layouts: a world builder that gives materials
 // seeds derived from the scene seed, a few primitives, and camera spreading.
 #include <cstdint>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -32,6 +33,8 @@ class WorldBuilder {
     m.stripe_direction = stripe_direction;
     return AddMaterial(m);
   }
+  // Names the part of the scene a material makes (SurfaceMaterial::surface).
+  void NameSurface(int material, const std::string& surface) { world_.materials[material].surface = surface; }
   int AddMaterial(SurfaceMaterial m) {
     m.seed = SynthHash(seed_, 0x5eed0000ULL + world_.materials.size());
     world_.materials.push_back(m);

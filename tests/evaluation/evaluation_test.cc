@@ -112,6 +112,51 @@ TEST(Evaluation, DepthMapsWithKnownFractionWrong) {
   EXPECT_TRUE(e.has_masks);
 }
 
+TEST(Evaluation, NamedSurfacesArePooledByNameWithTheSignOfTheirErrors) {
+  // Two images whose labels name the same surfaces in another order: scores pool by name.
+  // Row 0 of each 10 x 2 image is surface "wall", row 1 "floor"; no label in column 9.
+  GtView a = PlaneGtView(10, 2, 10, 2.0f), b = PlaneGtView(10, 2, 10, 2.0f);
+  a.surface_names = {"wall", "floor", "ceiling"};  // no pixel shows the ceiling
+  b.surface_names = {"floor", "wall"};
+  a.surface.assign(20, 0);
+  b.surface.assign(20, 0);
+  for (int c = 0; c < 9; ++c) {
+    a.surface[c] = 1, a.surface[10 + c] = 2;
+    b.surface[c] = 2, b.surface[10 + c] = 1;
+  }
+  // Wall pixels: 4 exact, 2 too near (-5 %), 2 too far (+5 %), 1 without an estimate; floor
+  // pixels all exact except 3 too near in image a only.
+  FloatMap est(10, 2, 1, 2.0f);
+  const float wall[9] = {2.f, 2.f, 2.f, 2.f, 1.9f, 1.9f, 2.1f, 2.1f, 0.f};
+  for (int c = 0; c < 9; ++c) est.At(0, c) = wall[c];
+  FloatMap est_a = est;
+  for (int c = 0; c < 3; ++c) est_a.At(1, c) = 1.5f;
+  const DepthEvaluation e = EvaluateDepthMaps({a, b}, {est_a, est}, {0.01, 0.02});
+  ASSERT_EQ(e.surface_names, (std::vector<std::string>{"wall", "floor", "ceiling"}));
+  ASSERT_EQ(e.pooled_surfaces.size(), 3u);
+  EXPECT_EQ(e.pooled_surfaces[2].num_gt, 0);
+  const DepthPixelScore& w = e.pooled_surfaces[0];
+  EXPECT_EQ(w.num_gt, 18);
+  EXPECT_EQ(w.num_estimated, 16);
+  EXPECT_EQ(w.at[0].num_good, 8);
+  EXPECT_EQ(w.num_too_near, 4);
+  EXPECT_EQ(w.num_too_far, 4);
+  const DepthPixelScore& f = e.pooled_surfaces[1];
+  EXPECT_EQ(f.num_gt, 18);
+  EXPECT_EQ(f.at[0].num_good, 15);
+  EXPECT_EQ(f.num_too_near, 3);
+  EXPECT_EQ(f.num_too_far, 0);
+  // The whole image counts the same signs (column 9 included).
+  EXPECT_EQ(e.pooled.num_too_near, 7);
+  EXPECT_EQ(e.pooled.num_too_far, 4);
+  WorkspaceEvaluation we;
+  we.depth = e;
+  const std::string table = FormatScoreTable(we);
+  EXPECT_NE(table.find("surface wall"), std::string::npos) << table;
+  EXPECT_NE(table.find("too near"), std::string::npos) << table;
+  EXPECT_EQ(table.find("ceiling"), std::string::npos) << table;  // a surface no image shows
+}
+
 TEST(Evaluation, SmallerEstimateIsScoredAgainstNearestGtPixel) {
   GtView gt = PlaneGtView(8, 6, 8, 1.0f);
   for (int r = 0; r < 6; ++r) {

@@ -58,6 +58,9 @@ TEST(JsonFiles, EvaluationReadsBack) {
   e.cloud.num_gt_points = 5000;
   e.cloud.median_gt_depth = 3.5;
   e.cloud.at.push_back({0.01, 0.035, 850, 4000, 0.85, 0.8, F1Score(0.85, 0.8)});
+  e.depth.surface_names = {"far wall"};
+  e.depth.pooled_surfaces.push_back(e.depth.pooled);
+  e.depth.pooled_surfaces[0].num_too_near = 7;
   WorkspaceEvaluation without_cloud;
   without_cloud.label = "b";
   without_cloud.depth.input_type = "photometric";
@@ -76,11 +79,16 @@ TEST(JsonFiles, EvaluationReadsBack) {
   EXPECT_EQ(w["gt_dir"], "/ws/gt");
   const Json& depth = w["depth"];
   EXPECT_EQ(Keys(depth), (std::vector<std::string>{"input_type", "tolerances", "pooled",
-                                                   "pooled_untextured", "images"}));
+                                                   "pooled_untextured", "pooled_surfaces", "images"}));
+  ASSERT_EQ(depth["pooled_surfaces"].size(), 1u);
+  EXPECT_EQ(Keys(depth["pooled_surfaces"][0]), (std::vector<std::string>{"name", "all"}));
+  EXPECT_EQ(depth["pooled_surfaces"][0]["name"], "far wall");
+  EXPECT_EQ(depth["pooled_surfaces"][0]["all"]["num_too_near"], 7);
   EXPECT_EQ(depth["tolerances"], Json({0.01, 0.02}));
   const Json& pooled = depth["pooled"];
   EXPECT_EQ(Keys(pooled), (std::vector<std::string>{"num_gt_pixels", "num_estimated_pixels",
-                                                    "median_relative_error", "tolerances"}));
+                                                    "median_relative_error", "num_too_near",
+                                                    "num_too_far", "tolerances"}));
   EXPECT_EQ(pooled["num_gt_pixels"], 200);
   EXPECT_EQ(pooled["num_estimated_pixels"], 100);
   EXPECT_EQ(pooled["median_relative_error"], 0.005);

@@ -118,6 +118,65 @@ TEST(SyntheticRooms, ClosedRoomsWithLargeUntexturedShare) {
   }
 }
 
+TEST(SyntheticRooms, ShellSurfacesAreNamed) {
+  for (const std::string& room : SyntheticRoomSceneNames()) {
+    SyntheticSceneOptions o = SmallRoom(room);
+    o.num_views = 4;
+    const SyntheticScene scene = RenderSyntheticScene(o);
+    const std::vector<std::string>& names = scene.surface_names;
+    for (const char* part : {"ceiling", "floor"}) {
+      EXPECT_NE(std::find(names.begin(), names.end(), part), names.end()) << room << " " << part;
+    }
+    for (const SyntheticView& v : scene.views) {
+      size_t named = 0;
+      for (uint8_t label : v.render.surface) {
+        ASSERT_LE(label, names.size()) << room;
+        named += label > 0;
+      }
+      // The shell is most of what a camera inside a room sees.
+      EXPECT_GT(named, v.render.surface.size() / 3) << room << " " << v.name;
+    }
+  }
+}
+
+TEST(SyntheticRooms, SweepSeesSideWallsAtGrazingAnglesAndASaturatedCeilingLight) {
+  const SyntheticScene scene = RenderSyntheticScene(SmallRoom("room_sweep"));
+  const std::vector<std::string>& names = scene.surface_names;
+  const auto label_of = [&](const std::string& name) {
+    return static_cast<uint8_t>(std::find(names.begin(), names.end(), name) - names.begin() + 1);
+  };
+  const uint8_t side = label_of("side walls"), far = label_of("far wall"), ceiling = label_of("ceiling");
+  ASSERT_LE(side, names.size());
+  ASSERT_LE(ceiling, names.size());
+  size_t side_pixels = 0, grazing = 0, far_pixels = 0, far_head_on = 0, saturated_ceiling = 0;
+  for (const SyntheticView& v : scene.views) {
+    const SyntheticCamera& c = v.camera;
+    for (int row = 0; row < c.height; ++row) {
+      for (int col = 0; col < c.width; ++col) {
+        const size_t i = static_cast<size_t>(row) * c.width + col;
+        const Eigen::Vector3d ray = Eigen::Vector3d((col - c.cx) / c.fx, (row - c.cy) / c.fy, 1).normalized();
+        const Eigen::Vector3d n(v.render.normal.At(row, col, 0), v.render.normal.At(row, col, 1),
+                                v.render.normal.At(row, col, 2));
+        const double incidence = std::acos(std::min(1.0, std::abs(ray.dot(n)))) * 180 / M_PI;
+        if (v.render.surface[i] == side) {
+          ++side_pixels;
+          grazing += incidence >= 60;
+        } else if (v.render.surface[i] == far) {
+          ++far_pixels;
+          far_head_on += incidence <= 40;
+        } else if (v.render.surface[i] == ceiling) {
+          const uint8_t* rgb = &v.render.image.data[3 * i];
+          saturated_ceiling += rgb[0] == 255 && rgb[1] == 255 && rgb[2] == 255;
+        }
+      }
+    }
+  }
+  EXPECT_GT(side_pixels, scene.views.size() * 160 * 120 / 10);
+  EXPECT_GT(grazing, 0.8 * side_pixels);
+  EXPECT_GT(far_head_on, 0.9 * far_pixels);
+  EXPECT_GT(saturated_ceiling, 20u);
+}
+
 TEST(SyntheticRooms, WindowIsBrightAndUntextured) {
   const SyntheticScene scene = RenderSyntheticScene(SmallRoom("room_window"));
   size_t bright = 0, bright_untextured = 0;
@@ -144,6 +203,9 @@ TEST(SyntheticRooms, GenerationIsDeterministic) {
   const std::vector<std::string> files = FilesUnder(JoinPaths(dir, "a"));
   ASSERT_EQ(files, FilesUnder(JoinPaths(dir, "b")));
   ASSERT_GT(files.size(), 40u);
+  EXPECT_NE(std::find(files.begin(), files.end(), "gt/surface_view_00.png"), files.end());
+  const std::string names = "walls\nceiling\nfloor\n";
+  EXPECT_EQ(ReadFileBytes(JoinPaths(dir, "a/gt/surfaces.txt")), std::vector<uint8_t>(names.begin(), names.end()));
   for (const std::string& f : files) {
     EXPECT_EQ(ReadFileBytes(JoinPaths(dir, "a/" + f)), ReadFileBytes(JoinPaths(dir, "b/" + f))) << f;
   }
