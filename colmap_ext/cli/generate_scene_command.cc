@@ -83,6 +83,9 @@ int RunGenerateSceneCommand(const std::vector<std::string>& args) {
   parser.Add("vignetting", &options.vignetting, "corner darkening 1 - v r^2 (0 = off)");
   parser.Add("shot_noise", &options.shot_noise,
              "signal-dependent noise: variance noise_sigma^2 + shot_noise * intensity");
+  parser.Add("pose_noise_px", &options.pose_noise_px,
+             "calibration error: each written camera pose turned about its centre by a random angle of this "
+             "many pixels (standard deviation; the images keep the true poses), 0 = exact");
   if (!parser.Parse(args)) {
     ShowHelp(parser, "colmap-mp generate_scene --scene indoor --output_path DIR [options]\n"
                      "Scenes: " + scene_names + "; e.g. --scene room_l");

@@ -239,6 +239,16 @@ std::vector<std::string> ReadGtSurfaceNames(const std::string& gt_dir) {
   return names;
 }
 
+// A GT picture (mask, labels) that must cover the GT depth map pixel for pixel.
+GrayImage ReadGtImageOfDepthSize(const std::string& path, const PfmImage& depth) {
+  GrayImage image = ReadGrayImage(path);
+  if (image.width != depth.width || image.height != depth.height) {
+    ThrowFileError(path, "size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                             " differs from the GT depth");
+  }
+  return image;
+}
+
 }  // namespace
 
 std::vector<GtView> LoadGtViews(const SparseModel& model, const std::string& gt_dir) {
@@ -286,21 +296,13 @@ std::vector<GtView> LoadGtViews(const SparseModel& model, const std::string& gt_
     for (int k = 0; k < 3; ++k) v.t[k] = image.tvec[k];
     const std::string mask_path = GtUntexturedMaskPath(gt_dir, image.name);
     if (FileExists(mask_path)) {
-      const GrayImage mask = ReadGrayImage(mask_path);
-      if (mask.width != v.depth.width || mask.height != v.depth.height) {
-        ThrowFileError(mask_path, "mask size " + std::to_string(mask.width) + "x" +
-                                      std::to_string(mask.height) + " differs from the GT depth");
-      }
+      const GrayImage mask = ReadGtImageOfDepthSize(mask_path, v.depth);
       v.untextured.resize(mask.data.size());
       for (size_t p = 0; p < mask.data.size(); ++p) v.untextured[p] = mask.data[p] > 127.f;
     }
     const std::string surface_path = GtSurfaceLabelPath(gt_dir, image.name);
     if (!surface_names.empty() && FileExists(surface_path)) {
-      const GrayImage labels = ReadGrayImage(surface_path);
-      if (labels.width != v.depth.width || labels.height != v.depth.height) {
-        ThrowFileError(surface_path, "size " + std::to_string(labels.width) + "x" +
-                                         std::to_string(labels.height) + " differs from the GT depth");
-      }
+      const GrayImage labels = ReadGtImageOfDepthSize(surface_path, v.depth);
       v.surface.resize(labels.data.size());
       for (size_t p = 0; p < labels.data.size(); ++p) {
         const float k = std::round(labels.data[p]);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "colmap_ext/io/gt_files.h"
@@ -81,11 +82,12 @@ std::string SceneInfoJson(const SyntheticScene& scene) {
   // Options and figures added after indoor/facade/plane were frozen are written only when
   // they matter, so that those scenes' files keep their content.
   const bool extended = IsRoomLayout(o.scene) || o.sparse_source != "simulated" ||
-                        o.vignetting != 0 || o.shot_noise != 0;
+                        o.vignetting != 0 || o.shot_noise != 0 || o.pose_noise_px != 0;
   if (extended) {
     j["options"]["sparse_source"] = o.sparse_source;
     j["options"]["vignetting"] = o.vignetting;
     j["options"]["shot_noise"] = o.shot_noise;
+    if (o.pose_noise_px != 0) j["options"]["pose_noise_px"] = o.pose_noise_px;
   }
   j["num_sparse_points"] = scene.model.points.size();
   if (extended) {
@@ -179,6 +181,7 @@ void SyntheticSceneOptions::Check() const {
   }
   if (!(vignetting >= 0 && vignetting <= 0.9)) throw Error("--vignetting must be in [0, 0.9]");
   if (!(shot_noise >= 0 && shot_noise <= 10)) throw Error("--shot_noise must be in [0, 10]");
+  if (!(pose_noise_px >= 0 && pose_noise_px <= 20)) throw Error("--pose_noise_px must be in [0, 20]");
 }
 
 std::vector<std::string> SyntheticSceneNames() { return SyntheticLayoutNames(); }
@@ -231,6 +234,18 @@ SyntheticScene RenderSyntheticScene(const SyntheticSceneOptions& options) {
     renders.push_back(view.render);
     scene.views.push_back(std::move(view));
   }
+  // The model the workspace gets: the poses as calibration would have them.
+  const std::vector<SyntheticCamera> true_cameras = cameras;
+  if (options.pose_noise_px > 0) {
+    for (size_t v = 0; v < cameras.size(); ++v) {
+      SynthRng rng(SynthHash(seed, 0x905e0, v));
+      const Eigen::Vector3d axis = Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+      const double angle = options.pose_noise_px / cameras[v].fx * rng.Normal();
+      const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+      cameras[v].R = turn * cameras[v].R;  // about the camera centre: R' = T R, t' = T t
+      cameras[v].t = turn * cameras[v].t;
+    }
+  }
   if (options.sparse_source == "sift") {
     std::vector<RgbImage> images;
     for (const RenderedView& r : renders) images.push_back(r.image);
@@ -242,7 +257,7 @@ SyntheticScene RenderSyntheticScene(const SyntheticSceneOptions& options) {
     sparse.seed = SynthHash(seed, 0x5a25e);
     scene.model = SimulateSparseModel(cameras, names, renders, sparse);
   }
-  scene.sparse_labels = LabelSparsePoints(scene.model, cameras, renders);
+  scene.sparse_labels = LabelSparsePoints(scene.model, true_cameras, renders);
   for (size_t v = 0; v < scene.views.size(); ++v) {
     scene.views[v].stats = ComputeStats(scene.views[v], scene.model, static_cast<int>(v));
   }

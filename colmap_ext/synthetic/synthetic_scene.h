@@ -49,6 +49,11 @@ struct SyntheticSceneOptions {
   std::string sparse_source = "simulated";
   double vignetting = 0.0;  // corner darkening, 0 = off (RenderOptions::vignetting)
   double shot_noise = 0.0;  // signal-dependent noise variance per grey level, 0 = off
+  // Calibration error of the written model (images are rendered with the true poses): each
+  // camera's written pose is turned about its centre by a random angle of this many pixels
+  // (standard deviation, at the focal length), as real SfM poses are off by a few tenths of
+  // a pixel after bundle adjustment. 0 = exact poses.
+  double pose_noise_px = 0.0;
 
   // Defaults for a scene: the rooms render 640x480 with 10 views and 2x2 supersampling,
   // weaker and partly signal-dependent noise, slight vignetting and SIFT sparse points;

@@ -5,11 +5,13 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "colmap_ext/cli/commands.h"
 #include "colmap_ext/evaluation/evaluation.h"
 #include "colmap_ext/evaluation/evaluation_report.h"
+#include "colmap_ext/io/image_io.h"
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/ply_io.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
@@ -238,6 +240,40 @@ TEST(Evaluation, PointCloudShiftedRemovedAndOutliers) {
   // Empty cloud.
   e = ScorePointCloud({gt}, {}, tols, 1);
   EXPECT_EQ(e.at[0].f1, 0.0);
+}
+
+TEST(Evaluation, SurfaceLabelsAreReadAndCheckedAgainstTheirNames) {
+  test::TempDir dir;
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), dir.path());
+  const SparseModel model = ReadSparseModel(dir / "sparse");
+  EXPECT_TRUE(LoadGtViews(model, dir / "gt")[0].surface.empty());  // indoor names no surface
+  // Left half "wall" (1), right half "floor" (2) in every view.
+  std::ofstream(dir / "gt/surfaces.txt") << "wall\nfloor\n";
+  std::vector<uint8_t> labels(160 * 120);
+  for (size_t p = 0; p < labels.size(); ++p) labels[p] = p % 160 < 80 ? 1 : 2;
+  for (const SyntheticView& v : scene.views) WriteGrayPng(dir / ("gt/surface_" + v.name), 160, 120, labels);
+  const std::vector<GtView> views = LoadGtViews(model, dir / "gt");
+  ASSERT_EQ(views[0].surface_names, (std::vector<std::string>{"wall", "floor"}));
+  EXPECT_EQ(views[0].surface, labels);
+  InstallGtAsEstimates(dir.path(), scene);
+  EvaluationOptions options;
+  const DepthEvaluation e = EvaluateDepthMaps(dir.path(), dir / "gt", options);
+  ASSERT_EQ(e.pooled_surfaces.size(), 2u);
+  EXPECT_EQ(e.pooled_surfaces[0].num_gt + e.pooled_surfaces[1].num_gt, e.pooled.num_gt);
+  EXPECT_DOUBLE_EQ(e.pooled_surfaces[1].at[0].f1, 1.0);
+  // A label that surfaces.txt does not name, or labels of another size: errors naming the file.
+  labels[5] = 3;
+  WriteGrayPng(dir / ("gt/surface_" + scene.views[1].name), 160, 120, labels);
+  try {
+    LoadGtViews(model, dir / "gt");
+    ADD_FAILURE() << "no error for label 3";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("surface_" + scene.views[1].name.substr(0, 7)), std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("label 3"), std::string::npos) << error.what();
+  }
+  WriteGrayPng(dir / ("gt/surface_" + scene.views[1].name), 80, 60, std::vector<uint8_t>(80 * 60, 1));
+  EXPECT_THROW(LoadGtViews(model, dir / "gt"), Error);
 }
 
 TEST(Evaluation, GtAgainstItselfIsPerfect) {

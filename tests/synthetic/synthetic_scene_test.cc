@@ -347,6 +347,42 @@ TEST(SyntheticScene, PlaneTiltedAwayFromEveryCamera) {
   EXPECT_GT(scene.model.points.size(), 200u);
 }
 
+TEST(SyntheticScene, PoseNoiseTurnsTheWrittenPosesAboutTheirCentresOnly) {
+  SyntheticSceneOptions o = SmallOptions("indoor", 4);
+  const SyntheticScene exact = RenderSyntheticScene(o);
+  o.pose_noise_px = 2.0;
+  const SyntheticScene noisy = RenderSyntheticScene(o);
+  double sum_sq = 0;
+  for (size_t v = 0; v < exact.views.size(); ++v) {
+    // The images and the GT are those of the true poses.
+    EXPECT_EQ(noisy.views[v].render.image.data, exact.views[v].render.image.data);
+    EXPECT_EQ(noisy.views[v].render.depth.data, exact.views[v].render.depth.data);
+    const SparseImage& a = exact.model.images[v];
+    const SparseImage& b = noisy.model.images[v];
+    double Ra[9], Rb[9];
+    QuaternionToRotationMatrix(a.qvec, Ra);
+    QuaternionToRotationMatrix(b.qvec, Rb);
+    // Same centre C = -R^T t; the turn between the two rotations is the noise.
+    double trace = 0;
+    for (int k = 0; k < 3; ++k) {
+      double ca = 0, cb = 0;
+      for (int j = 0; j < 3; ++j) {
+        ca -= Ra[3 * j + k] * a.tvec[j];
+        cb -= Rb[3 * j + k] * b.tvec[j];
+        trace += Ra[3 * k + j] * Rb[3 * k + j];
+      }
+      EXPECT_NEAR(ca, cb, 1e-9);
+    }
+    const double angle = std::acos(std::min(1.0, (trace - 1) / 2));
+    EXPECT_LT(angle * exact.views[v].camera.fx, 5 * o.pose_noise_px);
+    sum_sq += angle * angle * exact.views[v].camera.fx * exact.views[v].camera.fx;
+  }
+  // Turns of sigma px (RMS) about random axes.
+  const double rms_px = std::sqrt(sum_sq / exact.views.size());
+  EXPECT_GT(rms_px, 0.2 * o.pose_noise_px);
+  EXPECT_LT(rms_px, 4 * o.pose_noise_px);
+}
+
 TEST(SyntheticScene, OptionsCheckRejectsBadValues) {
   SyntheticSceneOptions o;
   EXPECT_NO_THROW(o.Check());
@@ -363,6 +399,9 @@ TEST(SyntheticScene, OptionsCheckRejectsBadValues) {
   EXPECT_THROW(o.Check(), Error);
   o = SyntheticSceneOptions();
   o.num_threads = 0;
+  EXPECT_THROW(o.Check(), Error);
+  o = SyntheticSceneOptions();
+  o.pose_noise_px = -1;
   EXPECT_THROW(o.Check(), Error);
 }
 
