@@ -136,7 +136,7 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
     for (size_t k = 0; k < d.surface_names.size(); ++k) {
       const DepthPixelScore& s = d.pooled_surfaces[k];
       if (s.num_gt == 0) continue;
-      auto share = [&](int64_t n) { return s.num_gt ? Percent(static_cast<double>(n) / s.num_gt) : "-"; };
+      auto share = [&](int64_t n) { return Percent(static_cast<double>(n) / s.num_gt); };
       out += PadRight(Shorten(d.surface_names[k], 22), 23) + PadLeft(std::to_string(s.num_gt), 9) +
              PadLeft(share(s.at.empty() ? 0 : s.at[0].num_good), 11) + PadLeft(share(s.num_too_near), 10) +
              PadLeft(share(s.num_too_far), 9) + PadLeft(share(s.num_gt - s.num_estimated), 10) + "\n";

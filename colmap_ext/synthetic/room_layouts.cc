@@ -365,7 +365,6 @@ SyntheticLayout BuildRoomCorridor(const LayoutParams& p) {
   return layout;
 }
 
-
 SyntheticLayout BuildRoomSweep(const LayoutParams& p) {
   WorldBuilder b(p.seed);
   // Long hall x in [-2.2, 2.2], y in [0, 9], z in [0, 2.6]; the far wall is y = 9. The
