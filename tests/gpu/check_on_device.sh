@@ -120,7 +120,7 @@ SCENE_CUTOFF_S=300
 FAILED=0 CHECK_NOTES="" STEP_TIMES="" GPU_TESTS=""
 command -v python3 > /dev/null || { echo "check_on_device.sh: needs python3 (device_report.py)" >&2; exit 2; }
 command -v cmake > /dev/null || { echo "check_on_device.sh: needs cmake (setup.sh)" >&2; exit 2; }
-REPORT=$OUT/report.md
+REPORT=$OUT/device_report.txt  # Markdown text: the list and tables of kernels/DESIGN_CUDA.md step 7
 rm -f "$REPORT" "$OUT"/build.log "$OUT"/gpu_tests.log "$OUT"/runs.log
 log() { printf '[%4ds] %s\n' $((SECONDS - START)) "$*"; }
 

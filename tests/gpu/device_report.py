@@ -5,7 +5,7 @@
                                                  geometric) depth maps agree (one JSON line)
   device_report.py scene SCENE_DIR               SCENE_DIR/scene.json from what the script left
                                                  there (layout: SCENE_FILES below)
-  device_report.py report WORK_DIR REPORT_MD     writes the report REPORT_MD: the header lines
+  device_report.py report WORK_DIR REPORT_FILE   writes the report REPORT_FILE: the header lines
                                                  check_on_device.sh wrote to WORK_DIR/header.txt,
                                                  then tables with a row per scene named in
                                                  WORK_DIR/scenes.txt (layout: kernels/DESIGN_CUDA.md,
