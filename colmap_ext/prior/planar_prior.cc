@@ -31,6 +31,14 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
   return kernels::Plane{n, -kernels::Dot(n, X)};
 }
 
+// A vertex that votes but is no corner: the corners of the triangle it falls in, and a third
+// of that triangle's area in pixels (its vote's weight is the square root, as a corner's).
+struct Voter {
+  int vertex;
+  std::array<int, 3> corners;
+  float third_of_area;
+};
+
 // Each triangle's plane by a vote of the vertices around it (kernels/DESIGN.md 15): the
 // candidates are the own planes of the triangles that share a vertex with it (itself
 // first) and its vertices' tangent planes; each vertex within two rings of the triangle's
@@ -45,7 +53,8 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
 // frame a little in front of it no longer gathers the votes of both (kernels/DESIGN.md 26).
 std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                         const std::vector<std::array<int, 3>>& faces,
-                                        const std::vector<kernels::Plane>& own, int num_threads,
+                                        const std::vector<kernels::Plane>& own,
+                                        const std::vector<Voter>& voters_only, int num_threads,
                                         int* num_changed) {
   constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
   const size_t nv = vertices.size();
@@ -70,6 +79,10 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
     }
   }
   std::vector<float> weight(nv);
+  for (const Voter& w : voters_only) {
+    area[w.vertex] = w.third_of_area;
+    for (int c : w.corners) ring[c].push_back(w.vertex);  // w is one ring from its corners
+  }
   for (size_t i = 0; i < nv; ++i) {
     weight[i] = std::sqrt(area[i]);
     ring[i].push_back(static_cast<int>(i));
@@ -208,7 +221,8 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes,
-                                                   const std::vector<uint8_t>* excluded) {
+                                                   const std::vector<uint8_t>* excluded,
+                                                   const std::vector<uint8_t>* voter_only) {
   const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
   const int per_cell = geometric ? options.points_per_cell : 1;
   const int cs = options.cell_size;
@@ -239,6 +253,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
         const int i = candidates[k].second;
         PlanarPriorVertex vertex{i % W, i / W, depth[i]};
         if (planes) vertex.normal = Vec3{(*planes)[4 * i], (*planes)[4 * i + 1], (*planes)[4 * i + 2]};
+        vertex.corner = !(voter_only && (*voter_only)[i]);
         vertices.push_back(vertex);
       }
     }
@@ -252,12 +267,13 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes,
                                   const std::vector<uint8_t>* excluded,
-                                  const std::vector<PlanarPriorVertex>* outside_vertices) {
+                                  const std::vector<PlanarPriorVertex>* outside_vertices,
+                                  const std::vector<uint8_t>* voter_only) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded);
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded, voter_only);
   if (outside_vertices) {
     model.num_outside_vertices =
         AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);
@@ -267,10 +283,26 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
   std::vector<std::pair<Kernel::Point_2, int>> points;
   points.reserve(model.vertices.size());
   for (size_t i = 0; i < model.vertices.size(); ++i) {
+    if (!model.vertices[i].corner) continue;
     points.push_back({Kernel::Point_2(model.vertices[i].u, model.vertices[i].v), static_cast<int>(i)});
   }
+  if (points.size() < 3) return model;
   Delaunay triangulation;
   triangulation.insert(points.begin(), points.end());
+  std::vector<Voter> voters_only;
+  for (size_t i = 0; i < model.vertices.size(); ++i) {
+    const PlanarPriorVertex& w = model.vertices[i];
+    if (w.corner) continue;
+    const Delaunay::Face_handle face = triangulation.locate(Kernel::Point_2(w.u, w.v));
+    if (face == nullptr || triangulation.is_infinite(face)) continue;  // outside every triangle
+    Voter voter{static_cast<int>(i), {}, 0.f};
+    for (int k = 0; k < 3; ++k) voter.corners[k] = face->vertex(k)->info();
+    const PlanarPriorVertex& a = model.vertices[voter.corners[0]];
+    const PlanarPriorVertex& b = model.vertices[voter.corners[1]];
+    const PlanarPriorVertex& c = model.vertices[voter.corners[2]];
+    voter.third_of_area = std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
+    voters_only.push_back(voter);
+  }
 
   // Every triangle's own plane through its three vertices, facing the camera.
   std::vector<std::array<int, 3>> faces;
@@ -288,7 +320,7 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
   }
   const std::vector<kernels::Plane> chosen =
-      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, options.num_threads,
+      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, voters_only, options.num_threads,
                                                          &model.num_voted_triangles) : own;
 
   for (size_t f = 0; f < faces.size(); ++f) {

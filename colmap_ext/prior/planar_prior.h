@@ -43,6 +43,9 @@ struct PlanarPriorVertex {
   int u = 0, v = 0;
   float depth = 0;
   kernels::Vec3 normal{0.f, 0.f, 0.f};  // the pixel's plane normal (0: unknown)
+  // false: the vertex votes on the planes of the triangles around it but is no triangle's
+  // corner (BuildPlanarPrior's voter_only).
+  bool corner = true;
 };
 
 struct PlanarPriorModel {
@@ -60,14 +63,18 @@ struct PlanarPriorModel {
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
 // of other views in this camera (TransferPriorVertices); those outside the image, within
 // half its size of its border and inside [depth_min, depth_max], join the selected ones,
-// at most points_per_cell per cell.
+// at most points_per_cell per cell. voter_only (W*H, optional): 1 on pixels whose vertices
+// are no triangle corners but, with the plane vote, vote on the planes of the triangles
+// around the triangle they fall in, weighing the square root of a third of its area
+// (kernels/DESIGN.md 29).
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes = nullptr,
                                   const std::vector<uint8_t>* excluded = nullptr,
-                                  const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
+                                  const std::vector<PlanarPriorVertex>* outside_vertices = nullptr,
+                                  const std::vector<uint8_t>* voter_only = nullptr);
 
 // Vertices of a source view seen from the reference camera: pixel (rounded) and depth in
 // the reference, normal rotated into its frame. Points behind the reference are dropped;
@@ -93,6 +100,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes = nullptr,
-                                                   const std::vector<uint8_t>* excluded = nullptr);
+                                                   const std::vector<uint8_t>* excluded = nullptr,
+                                                   const std::vector<uint8_t>* voter_only = nullptr);
 
 }  // namespace mpmvs

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "colmap_ext/plan/kernel_camera.h"
+#include "colmap_ext/prior/epipolar_texture.h"
 #include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/util/logging.h"
 
@@ -17,6 +18,28 @@ void ExcludeBentDepths(int W, int H, const std::vector<float>& depth, float max_
   const std::vector<uint8_t> bent = BentDepthMask(W, H, depth, kVertexBendStep, max_bend);
   if (excluded->empty()) excluded->assign(bent.size(), 0);
   for (size_t i = 0; i < bent.size(); ++i) (*excluded)[i] |= bent[i];
+}
+
+// The vertex candidates (m_p, m_g below the selection's bars, not excluded) whose window of
+// the finest scale varies along no source's epipolar line beyond the image noise: a plane
+// through the window's edge matches in every view wherever the vertex lies along it, so the
+// vertex votes but is no triangle corner (kernels/DESIGN.md 29).
+std::vector<uint8_t> EpipolarBlindCandidates(const kernels::PatchMatchProblem& problem, const std::vector<float>& depth,
+                                             const kernels::PatchMatchResult& input,
+                                             const PlanarPriorOptions& options,
+                                             const std::vector<uint8_t>& excluded) {
+  constexpr float kMaxDifferenceToNoise = 2.f;  // as a plain window's texture (PlainWindow)
+  std::vector<uint8_t> candidate(depth.size(), 0);
+  for (size_t i = 0; i < depth.size(); ++i) {
+    candidate[i] = depth[i] > 0.f && input.photo_cost[i] < options.max_photo_cost &&
+                   input.geo_error[i] < options.max_geom_error && (excluded.empty() || !excluded[i]);
+  }
+  std::vector<kernels::Camera> sources;
+  for (const kernels::PatchMatchSource& source : problem.sources) sources.push_back(source.camera);
+  kernels::ImageView grey = problem.ref_image;
+  grey.chroma = nullptr;
+  return EpipolarBlindMask(grey, problem.ref_camera, sources, kernels::WindowForScale(0), problem.ref_noise_variance,
+                           kMaxDifferenceToNoise, candidate, options.num_threads);
 }
 
 // The reference's and its sources' images and, in geometric stages, the sources' depth
@@ -115,18 +138,25 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   // followed no prior yet.
   if (!stage.prior_geometric_selection || BuildsOnPrior(plan.pipeline, stage.input)) options.max_vertex_bend = 0.f;
   ExcludeBentDepths(problem.ref_camera.width, problem.ref_camera.height, depth, options.max_vertex_bend, &excluded);
+  std::vector<uint8_t> voter_only;
+  if (adaptive && stage.prior_geometric_selection && options.plane_vote) {
+    voter_only = EpipolarBlindCandidates(problem, depth, ref->input, options, excluded);
+  }
   std::vector<PlanarPriorVertex> source_vertices;
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
   if (use_sources) source_vertices = SourceViewVertices(stage, input_stage, options, adaptive, store, *ref);
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
                                 p.depth_min, p.depth_max, options, &ref->input.plane,
-                                excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr);
+                                excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr,
+                                voter_only.empty() ? nullptr : &voter_only);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
-  size_t labelled = 0;
+  size_t labelled = 0, voters_only = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
+  for (const PlanarPriorVertex& vertex : ref->prior.vertices) voters_only += !vertex.corner;
   LogDetail(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
-          " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image), " +
+          " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image; " +
+          std::to_string(voters_only) + " vote only), " +
           std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
           std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");

@@ -212,6 +212,62 @@ TEST(PlanarPrior, TrianglesAcrossADepthStepTakeAPlaneOfOneSide) {
   EXPECT_GT(between, 0);
 }
 
+// Voter-only vertices (BuildPlanarPrior's voter_only) are no triangle corners, yet their votes
+// count. A fronto-parallel wall A (depth 5) holds the corners; a plane B crosses it along
+// row 20, where the corners carry B's normal, so B is a candidate of the triangles there.
+// The corners are 10 px apart; two voter-only vertices per 5 px cell lie on B and outvote
+// them near row 20. Left out
+// altogether (excluded), they change nothing and every triangle keeps A.
+TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
+  const int W = 60, H = 40;
+  const kernels::Camera cam = MakeCamera(W, H);  // f 100, principal point (30, 20)
+  auto depth_b = [](int v) { return 1.f / (0.2f + 0.002f * (v - 20)); };  // B: 0.2 y + 0.2 z = 1
+  const kernels::Vec3 normal_b = kernels::Normalize(kernels::Vec3{0.f, 0.2f, 0.2f});
+  std::vector<float> depth(W * H, 5.f), photo(W * H, 1.f), geo(W * H, 0.f), planes(4 * W * H, 0.f);
+  std::vector<uint8_t> voter_only(W * H, 0);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      kernels::Vec3 n{0.f, 0.f, -1.f};
+      if (u % 10 == 0 && v % 10 == 0) {
+        photo[i] = 0.05f;  // a corner, on A
+        if (v == 20) n = normal_b;
+      } else if ((u % 5 == 2 && v % 5 == 2) || (u % 5 == 3 && v % 5 == 3)) {
+        photo[i] = 0.06f;  // on B
+        depth[i] = depth_b(v);
+        voter_only[i] = 1;
+      }
+      planes[4 * i] = n.x;
+      planes[4 * i + 1] = n.y;
+      planes[4 * i + 2] = n.z;
+    }
+  }
+  PlanarPriorOptions options;
+  const PlanarPriorModel voting =
+      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, nullptr, nullptr, &voter_only);
+  const PlanarPriorModel excluded = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, &voter_only);
+  int num_voters = 0;
+  for (const PlanarPriorVertex& vertex : voting.vertices) num_voters += !vertex.corner;
+  EXPECT_EQ(num_voters, 2 * 12 * 8);
+  for (int index : voting.triangles) EXPECT_TRUE(voting.vertices[index].corner) << index;
+  auto on_b = [&](const PlanarPriorModel& model) {
+    int count = 0;
+    for (int v = 22; v < 30; ++v) {
+      for (int u = 5; u < W - 5; ++u) {
+        const size_t i = static_cast<size_t>(v) * W + u;
+        if (!model.label[i]) continue;
+        const kernels::Plane pl{{model.plane[4 * i], model.plane[4 * i + 1], model.plane[4 * i + 2]},
+                                model.plane[4 * i + 3]};
+        const float z = kernels::PlaneDepth(pl, kernels::PixelRay(cam, float(u), float(v)));
+        count += std::abs(z - depth_b(v)) < 0.002f * depth_b(v);
+      }
+    }
+    return count;
+  };
+  EXPECT_GT(on_b(voting), 100);
+  EXPECT_EQ(on_b(excluded), 0);
+}
+
 // A wall seen obliquely whose vertices carry no normals, with a thin object a little in
 // front of it: the triangles joining the object's vertices to the wall's take the wall's
 // plane, which most vertices around them lie on.
