@@ -33,7 +33,7 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
 
 // A vertex that votes but is no corner: the corners of the triangle it falls in, and a third
 // of that triangle's area in pixels (its vote's weight is the square root, as a corner's).
-struct Voter {
+struct VoteOnlyVertex {
   int vertex;
   std::array<int, 3> corners;
   float third_of_area;
@@ -54,7 +54,7 @@ struct Voter {
 std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                         const std::vector<std::array<int, 3>>& faces,
                                         const std::vector<kernels::Plane>& own,
-                                        const std::vector<Voter>& voters_only, int num_threads,
+                                        const std::vector<VoteOnlyVertex>& vote_only, int num_threads,
                                         int* num_changed) {
   constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
   const size_t nv = vertices.size();
@@ -79,7 +79,7 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
     }
   }
   std::vector<float> weight(nv);
-  for (const Voter& w : voters_only) {
+  for (const VoteOnlyVertex& w : vote_only) {
     area[w.vertex] = w.third_of_area;
     for (int c : w.corners) ring[c].push_back(w.vertex);  // w is one ring from its corners
   }
@@ -273,7 +273,9 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded, voter_only);
+  // Without the vote a vertex that may not be a corner would serve no purpose: all are corners.
+  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded,
+                                       options.plane_vote ? voter_only : nullptr);
   if (outside_vertices) {
     model.num_outside_vertices =
         AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);
@@ -286,23 +288,24 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     if (!model.vertices[i].corner) continue;
     points.push_back({Kernel::Point_2(model.vertices[i].u, model.vertices[i].v), static_cast<int>(i)});
   }
-  if (points.size() < 3) return model;
   Delaunay triangulation;
   triangulation.insert(points.begin(), points.end());
-  std::vector<Voter> voters_only;
+  if (triangulation.dimension() < 2) return model;  // collinear corners: no triangle
+  std::vector<VoteOnlyVertex> vote_only;
   for (size_t i = 0; i < model.vertices.size(); ++i) {
     const PlanarPriorVertex& w = model.vertices[i];
     if (w.corner) continue;
     const Delaunay::Face_handle face = triangulation.locate(Kernel::Point_2(w.u, w.v));
     if (face == nullptr || triangulation.is_infinite(face)) continue;  // outside every triangle
-    Voter voter{static_cast<int>(i), {}, 0.f};
+    VoteOnlyVertex voter{static_cast<int>(i), {}, 0.f};
     for (int k = 0; k < 3; ++k) voter.corners[k] = face->vertex(k)->info();
     const PlanarPriorVertex& a = model.vertices[voter.corners[0]];
     const PlanarPriorVertex& b = model.vertices[voter.corners[1]];
     const PlanarPriorVertex& c = model.vertices[voter.corners[2]];
     voter.third_of_area = std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
-    voters_only.push_back(voter);
+    vote_only.push_back(voter);
   }
+  model.num_vote_only_vertices = static_cast<int>(vote_only.size());
 
   // Every triangle's own plane through its three vertices, facing the camera.
   std::vector<std::array<int, 3>> faces;
@@ -320,7 +323,7 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
   }
   const std::vector<kernels::Plane> chosen =
-      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, voters_only, options.num_threads,
+      options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, vote_only, options.num_threads,
                                                          &model.num_voted_triangles) : own;
 
   for (size_t f = 0; f < faces.size(); ++f) {

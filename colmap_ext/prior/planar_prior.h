@@ -53,6 +53,7 @@ struct PlanarPriorModel {
   std::vector<int> triangles;  // 3 vertex indices per kept triangle
   int num_voted_triangles = 0;  // triangles whose vote chose another plane than their own
   int num_outside_vertices = 0;  // vertices from outside_vertices (they come last)
+  int num_vote_only_vertices = 0;  // vertices that vote, inside a triangle, but are no corners
   std::vector<float> plane;    // 4 per pixel (nx, ny, nz, d), reference camera frame
   std::vector<uint8_t> label;  // 1 where a triangle covers the pixel
 };
@@ -63,10 +64,10 @@ struct PlanarPriorModel {
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
 // of other views in this camera (TransferPriorVertices); those outside the image, within
 // half its size of its border and inside [depth_min, depth_max], join the selected ones,
-// at most points_per_cell per cell. voter_only (W*H, optional): 1 on pixels whose vertices
-// are no triangle corners but, with the plane vote, vote on the planes of the triangles
-// around the triangle they fall in, weighing the square root of a third of its area
-// (kernels/DESIGN.md 29).
+// at most points_per_cell per cell. voter_only (W*H, optional; only with options.plane_vote):
+// 1 on pixels whose vertices are no triangle corners but vote on the planes of the
+// triangles around the triangle they fall in, weighing the square root of a third of its
+// area; outside every triangle they do nothing (kernels/DESIGN.md 29).
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,

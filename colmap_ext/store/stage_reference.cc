@@ -36,9 +36,7 @@ std::vector<uint8_t> EpipolarBlindCandidates(const kernels::PatchMatchProblem& p
   }
   std::vector<kernels::Camera> sources;
   for (const kernels::PatchMatchSource& source : problem.sources) sources.push_back(source.camera);
-  kernels::ImageView grey = problem.ref_image;
-  grey.chroma = nullptr;
-  return EpipolarBlindMask(grey, problem.ref_camera, sources, kernels::WindowForScale(0), problem.ref_noise_variance,
+  return EpipolarBlindMask(problem.ref_image, problem.ref_camera, sources, kernels::WindowForScale(0), problem.ref_noise_variance,
                            kMaxDifferenceToNoise, candidate, options.num_threads);
 }
 
@@ -151,12 +149,11 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
                                 voter_only.empty() ? nullptr : &voter_only);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
-  size_t labelled = 0, voters_only = 0;
+  size_t labelled = 0;
   for (uint8_t l : ref->prior.label) labelled += l;
-  for (const PlanarPriorVertex& vertex : ref->prior.vertices) voters_only += !vertex.corner;
   LogDetail(workspace.views[p.ref].name + ": planar prior with " + std::to_string(ref->prior.vertices.size()) +
           " vertices (" + std::to_string(ref->prior.num_outside_vertices) + " of source views, outside the image; " +
-          std::to_string(voters_only) + " vote only), " +
+          std::to_string(ref->prior.num_vote_only_vertices) + " vote only), " +
           std::to_string(ref->prior.triangles.size() / 3) + " triangles (" +
           std::to_string(ref->prior.num_voted_triangles) + " take a neighbour's plane), " +
           std::to_string(100 * labelled / ref->prior.label.size()) + "% of pixels covered");

@@ -59,6 +59,32 @@ TEST(EpipolarTexture, AnEdgeAlongTheBaselineIsBlindAndAcrossItIsNot) {
   EXPECT_EQ(Blind(EdgeImage(false), {CameraAt(0.3f, 0.f), CameraAt(0.f, 0.3f)})[10 * kW + 10], 1);
 }
 
+TEST(EpipolarTexture, SlantedBaselinesUseTheNoiseOfInterpolatedSamples) {
+  // A source up and to the right: lines at 45 degrees, whose bilinear samples average
+  // pixels, so the noise alone varies their differences less than along an axis.
+  const std::vector<kernels::Camera> diagonal = {CameraAt(0.3f, 0.3f)};
+  EXPECT_EQ(Blind(EdgeImage(false), diagonal)[10 * kW + 10], 1);     // noise only
+  EXPECT_EQ(Blind(EdgeImage(false), diagonal)[(kH / 2) * kW + kW / 2], 0);  // crossing an edge
+  // The same grain taken for texture over a noise of variance 0.3 (a fifth of its own): its
+  // differences on the diagonal vary by about 0.67 * 1.44, above twice the 0.2 that noise of
+  // 0.3 leaves there (under the 1.2 it would leave along an axis).
+  const std::vector<float> image = EdgeImage(false);
+  kernels::ImageView view{image.data(), kW, kH};
+  const std::vector<uint8_t> all(kW * kH, 1);
+  EXPECT_EQ(EpipolarBlindMask(view, CameraAt(0, 0), diagonal, kernels::WindowForScale(0), 0.3f, 2.f, all, 1)[10 * kW + 10],
+            0);
+}
+
+TEST(EpipolarTexture, SamplesOutsideTheImageDoNotCount) {
+  // In the image's corner, three of the window's six rows and, along a horizontal line,
+  // three of its six columns leave the image: the nine samples left are too few to call
+  // the window blind.
+  const std::vector<kernels::Camera> sideways = {CameraAt(0.3f, 0.f)};
+  const std::vector<uint8_t> blind = Blind(EdgeImage(true), sideways);
+  EXPECT_EQ(blind[10 * kW + 8], 1);  // the window inside the image: noise only, blind
+  EXPECT_EQ(blind[0], 0);
+}
+
 TEST(EpipolarTexture, ForwardMotionLinesRadiateFromTheEpipole) {
   // A source straight ahead: its epipole is the principal point (31, 23) and its epipolar
   // lines radiate from it. A horizontal edge through the epipole's row runs along them.
@@ -75,11 +101,11 @@ TEST(EpipolarTexture, OnlyCandidatesAreTested) {
   const std::vector<float> image = EdgeImage(true);
   kernels::ImageView view{image.data(), kW, kH};
   std::vector<uint8_t> candidate(kW * kH, 0);
-  candidate[5] = 1;
+  candidate[10 * kW + 10] = 1;
   const std::vector<uint8_t> blind =
       EpipolarBlindMask(view, CameraAt(0, 0), {CameraAt(0.3f, 0.f)}, kernels::WindowForScale(0), 1.44f, 2.f,
                         candidate, 2);
-  for (int i = 0; i < kW * kH; ++i) EXPECT_EQ(blind[i], i == 5 ? 1 : 0) << i;
+  for (int i = 0; i < kW * kH; ++i) EXPECT_EQ(blind[i], i == 10 * kW + 10 ? 1 : 0) << i;
 }
 
 }  // namespace

@@ -216,8 +216,8 @@ TEST(PlanarPrior, TrianglesAcrossADepthStepTakeAPlaneOfOneSide) {
 // count. A fronto-parallel wall A (depth 5) holds the corners; a plane B crosses it along
 // row 20, where the corners carry B's normal, so B is a candidate of the triangles there.
 // The corners are 10 px apart; two voter-only vertices per 5 px cell lie on B and outvote
-// them near row 20. Left out
-// altogether (excluded), they change nothing and every triangle keeps A.
+// them near row 20. Left out altogether (excluded), they change nothing and every triangle
+// keeps A.
 TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
   const int W = 60, H = 40;
   const kernels::Camera cam = MakeCamera(W, H);  // f 100, principal point (30, 20)
@@ -266,6 +266,36 @@ TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
   };
   EXPECT_GT(on_b(voting), 100);
   EXPECT_EQ(on_b(excluded), 0);
+  // Those beyond the corners' hull (u > 50 or v > 30) fall in no triangle and do not vote.
+  EXPECT_GT(voting.num_vote_only_vertices, 100);
+  EXPECT_LT(voting.num_vote_only_vertices, num_voters);
+  // Without the vote there is nothing to vote on: every selected vertex is a corner.
+  options.plane_vote = false;
+  const PlanarPriorModel paper =
+      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, nullptr, nullptr, &voter_only);
+  for (const PlanarPriorVertex& vertex : paper.vertices) EXPECT_TRUE(vertex.corner);
+  EXPECT_EQ(paper.num_vote_only_vertices, 0);
+}
+
+// Corners on one line triangulate into no triangle; a vertex that would vote inside one
+// finds none (CGAL's triangulation is then one-dimensional).
+TEST(PlanarPrior, VoteOnlyVertexBesideCollinearCornersIsIgnored) {
+  const int W = 40, H = 30;
+  const kernels::Camera cam = MakeCamera(W, H);
+  std::vector<float> depth(W * H, 5.f), photo(W * H, 1.f), geo(W * H, 0.f);
+  std::vector<uint8_t> voter_only(W * H, 0);
+  for (int u = 2; u < W; u += 5) photo[10 * W + u] = 0.05f;  // corners on row 10 only
+  photo[10 * W + 11] = 0.06f;                                   // on that row, between two
+  voter_only[10 * W + 11] = 1;
+  photo[22 * W + 13] = 0.06f;  // off the line
+  voter_only[22 * W + 13] = 1;
+  PlanarPriorOptions options;
+  const PlanarPriorModel model =
+      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, nullptr, nullptr, nullptr, &voter_only);
+  EXPECT_EQ(model.vertices.size(), 10u);
+  EXPECT_TRUE(model.triangles.empty());
+  EXPECT_EQ(model.num_vote_only_vertices, 0);
+  for (uint8_t l : model.label) EXPECT_EQ(l, 0);
 }
 
 // A wall seen obliquely whose vertices carry no normals, with a thin object a little in
