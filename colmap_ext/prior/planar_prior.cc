@@ -31,6 +31,11 @@ kernels::Plane FacingPlane(Vec3 n, const Vec3& X) {
   return kernels::Plane{n, -kernels::Dot(n, X)};
 }
 
+// A third of the pixel area of the triangle with corners a, b, c: each corner's share.
+float ThirdOfArea(const PlanarPriorVertex& a, const PlanarPriorVertex& b, const PlanarPriorVertex& c) {
+  return std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
+}
+
 // A vertex that votes but is no corner: the corners of the triangle it falls in, and a third
 // of that triangle's area in pixels (its vote's weight is the square root, as a corner's).
 struct VoteOnlyVertex {
@@ -66,11 +71,7 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
   std::vector<std::vector<int>> ring(nv), incident(nv);
   std::vector<float> area(nv, 0.f);  // a third of the incident triangles' area, in pixels
   for (size_t f = 0; f < faces.size(); ++f) {
-    const PlanarPriorVertex& a = vertices[faces[f][0]];
-    const PlanarPriorVertex& b = vertices[faces[f][1]];
-    const PlanarPriorVertex& c = vertices[faces[f][2]];
-    const float third =
-        std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
+    const float third = ThirdOfArea(vertices[faces[f][0]], vertices[faces[f][1]], vertices[faces[f][2]]);
     for (int k = 0; k < 3; ++k) {
       area[faces[f][k]] += third;
       incident[faces[f][k]].push_back(static_cast<int>(f));
@@ -240,7 +241,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
           if (!(depth[i] > 0.f) || (excluded && (*excluded)[i])) continue;
           if (geometric) {
             // MP-MVS (paper): photometric cost < 0.2 and reprojection error < 1 px.
-            if (photo_cost[i] < options.max_photo_cost && geo_error[i] < options.max_geom_error)
+            if (GeometricVertexCandidate(photo_cost[i], geo_error[i], options))
               candidates.push_back({photo_cost[i] + 0.2f * geo_error[i], i});
           } else if (photo_cost[i] < options.max_cost_photometric) {
             candidates.push_back({photo_cost[i], i});
@@ -299,10 +300,8 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
     if (face == nullptr || triangulation.is_infinite(face)) continue;  // outside every triangle
     VoteOnlyVertex voter{static_cast<int>(i), {}, 0.f};
     for (int k = 0; k < 3; ++k) voter.corners[k] = face->vertex(k)->info();
-    const PlanarPriorVertex& a = model.vertices[voter.corners[0]];
-    const PlanarPriorVertex& b = model.vertices[voter.corners[1]];
-    const PlanarPriorVertex& c = model.vertices[voter.corners[2]];
-    voter.third_of_area = std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
+    voter.third_of_area = ThirdOfArea(model.vertices[voter.corners[0]], model.vertices[voter.corners[1]],
+                                      model.vertices[voter.corners[2]]);
     vote_only.push_back(voter);
   }
   model.num_vote_only_vertices = static_cast<int>(vote_only.size());

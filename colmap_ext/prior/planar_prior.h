@@ -39,6 +39,11 @@ struct PlanarPriorOptions {
 
 constexpr int kVertexBendStep = 3;
 
+// The geometric (gp) selection's bar for a pixel with a depth (MP-MVS: m_p < 0.2, m_g < 1 px).
+inline bool GeometricVertexCandidate(float photo_cost, float geo_error, const PlanarPriorOptions& options) {
+  return photo_cost < options.max_photo_cost && geo_error < options.max_geom_error;
+}
+
 struct PlanarPriorVertex {
   int u = 0, v = 0;
   float depth = 0;

@@ -31,8 +31,8 @@ std::vector<uint8_t> EpipolarBlindCandidates(const kernels::PatchMatchProblem& p
   constexpr float kMaxDifferenceToNoise = 2.f;  // as a plain window's texture (PlainWindow)
   std::vector<uint8_t> candidate(depth.size(), 0);
   for (size_t i = 0; i < depth.size(); ++i) {
-    candidate[i] = depth[i] > 0.f && input.photo_cost[i] < options.max_photo_cost &&
-                   input.geo_error[i] < options.max_geom_error && (excluded.empty() || !excluded[i]);
+    candidate[i] = depth[i] > 0.f && GeometricVertexCandidate(input.photo_cost[i], input.geo_error[i], options) &&
+                   (excluded.empty() || !excluded[i]);
   }
   std::vector<kernels::Camera> sources;
   for (const kernels::PatchMatchSource& source : problem.sources) sources.push_back(source.camera);
