@@ -58,6 +58,14 @@ no_gpu() {
   echo "no GPU: $*"
   exit 77
 }
+# The first non-empty line of $1, or "no output"; no pipe into grep -m under pipefail.
+first_line() {
+  local line
+  while IFS= read -r line; do
+    [ -n "$line" ] && { printf '%s' "$line"; return; }
+  done <<< "$1"
+  printf 'no output'
+}
 
 SMI=$(command -v nvidia-smi || true)
 [ -z "$SMI" ] && [ -x /usr/local/nvidia/bin/nvidia-smi ] && SMI=/usr/local/nvidia/bin/nvidia-smi
@@ -65,10 +73,10 @@ if [ -n "$SMI" ]; then
   smi_list=$(timeout 60 "$SMI" -L 2>&1)
   smi_rc=$?
   if [ $smi_rc -ne 0 ]; then
-    no_gpu "nvidia-smi -L failed (exit $smi_rc): $(printf '%s' "$smi_list" | grep -m 1 . || echo 'no output')"
+    no_gpu "nvidia-smi -L failed (exit $smi_rc): $(first_line "$smi_list")"
   fi
-  smi_gpu=$(printf '%s\n' "$smi_list" | grep -m 1 '^GPU [0-9]' || true)
-  [ -n "$smi_gpu" ] || no_gpu "nvidia-smi -L lists no GPU ($(printf '%s' "$smi_list" | grep -m 1 . || echo 'no output'))"
+  smi_gpu=$(grep '^GPU [0-9]' <<< "$smi_list" | sed -n 1p || true)
+  [ -n "$smi_gpu" ] || no_gpu "nvidia-smi -L lists no GPU ($(first_line "$smi_list"))"
 elif ! ls /dev/nvidia[0-9]* > /dev/null 2>&1 && [ ! -e /proc/driver/nvidia ]; then
   no_gpu "no NVIDIA driver (no nvidia-smi, no /dev/nvidia0, no /proc/driver/nvidia)"
 else
@@ -95,10 +103,9 @@ fi
 probe=$(timeout 60 "$probe_dir/device_probe" 2>&1)
 probe_rc=$?
 if [ $probe_rc -ne 0 ]; then
-  no_gpu "the CUDA runtime of $NVCC cannot use device 0 ($smi_gpu): $(printf '%s' "$probe" |
-    grep -m 1 . | sed 's/^error=//') (probe exit $probe_rc)"
+  no_gpu "the CUDA runtime of $NVCC cannot use device 0 ($smi_gpu): $(first_line "$probe" | sed 's/^error=//') (probe exit $probe_rc)"
 fi
-probe_value() { printf '%s\n' "$probe" | sed -n "s/^$1=//p" | head -n 1; }
+probe_value() { sed -n "s/^$1=//p" <<< "$probe" | sed -n 1p; }
 GPU_NAME=$(probe_value name)
 GPU_CC=$(probe_value cc)
 GPU_UUID=$(probe_value uuid)

@@ -29,8 +29,11 @@ config=$(cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMPMVS_ENAB
 echo "$config" | grep "mp-mvs: HIP backend ON" || fail "configure did not turn the HIP backend on"
 
 cmake --build "$build" -j "$(nproc)" --target colmap-mp || fail "build of $build failed"
-objdump -h "$build/hip/cuda_backend.o" | grep -q hip_fatbin || fail "the kernels' object has no AMD device code"
-ldd "$build/colmap-mp" | grep -q libamdhip64 || fail "$build/colmap-mp does not link the HIP runtime"
+# Whole outputs matched, not piped into grep -q (tests/early_exit_pipes_test.sh says why).
+sections=$(objdump -h "$build/hip/cuda_backend.o") || fail "objdump cannot read $build/hip/cuda_backend.o"
+[[ $sections == *hip_fatbin* ]] || fail "the kernels' object has no AMD device code"
+libraries=$(ldd "$build/colmap-mp") || fail "ldd cannot read $build/colmap-mp"
+[[ $libraries == *libamdhip64* ]] || fail "$build/colmap-mp does not link the HIP runtime"
 echo "compile_hip: the kernels compiled for $archs into $build/colmap-mp"
 
 scene=$(mktemp -d)

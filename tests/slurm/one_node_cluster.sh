@@ -71,7 +71,7 @@ slurmctld -f "$dir/slurm.conf"
 slurmd -f "$dir/slurm.conf"
 export SLURM_CONF=$dir/slurm.conf
 for _ in $(seq 60); do
-  if sinfo -h -o %t 2>/dev/null | grep -q idle; then echo "export SLURM_CONF=$dir/slurm.conf"; exit 0; fi
+  if [[ $(sinfo -h -o %t 2>/dev/null) == *idle* ]]; then echo "export SLURM_CONF=$dir/slurm.conf"; exit 0; fi
   sleep 0.5
 done
 echo "one_node_cluster.sh: the node did not become idle within 30 s; logs in $dir/log" >&2
