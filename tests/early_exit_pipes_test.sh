@@ -14,6 +14,7 @@ fi
 [ ${#files[@]} -gt 0 ] || { echo "FAIL: no shell scripts found"; exit 1; }
 bad=0 checked=0
 for f in "${files[@]}"; do
+  [ "$f" = tests/early_exit_pipes_test.sh ] && continue  # its own pattern would match
   checked=$((checked + 1))
   # A pipe at a line's end continues on the next line: join them before matching.
   if hits=$(sed -e ':a' -e '/|[[:space:]]*$/{N;s/\n[[:space:]]*/ /;ba' -e '}' "$f" |
