@@ -155,7 +155,7 @@ std::string OptionsMarkdown() {
 #undef MPMVS_IGNORED_ROW
   md << "\n## The method's options\n\n"
         "`--MPMVS.preset default|fast|paper` sets the defaults of all of them at once (the columns below:\n"
-        "`fast` runs about half the default's iterations, `paper` is MP-MVS as published; empty: as the\n"
+        "`fast` runs 8 of the default's 21 iterations, `paper` is MP-MVS as published; empty: as the\n"
         "default); options given explicitly override the preset. \"result\": the option changes\n"
         "the maps, so it enters the fingerprint of every stage's state (a change recomputes) and two runs on\n"
         "one workspace must agree on it.\n\n"

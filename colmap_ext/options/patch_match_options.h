@@ -74,8 +74,8 @@ namespace mpmvs {
   X(geom_consistency_regularizer, "use --MPMVS.geom_weight")                                                           \
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
-// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (about half the
-// default's iterations: docs/results.md) and `--MPMVS.preset paper` (MP-MVS as published).
+// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (8 iterations of
+// the default's 21, one prior round, settled pixels skip updates: docs/results.md) and `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
 // X(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)
@@ -91,7 +91,7 @@ namespace mpmvs {
     "geometric (MP-MVS), photometric (ACMP) or none")                                                                  \
   X(int, geom_iterations, 2, 1, 2, OptionRange::Closed(1, 100), kResult, "iterations of each geometric pass")          \
   X(int, prior_iterations, 3, 2, 3, OptionRange::Closed(1, 100), kResult, "iterations of each prior-assisted run")     \
-  X(int, prior_rounds, 2, 2, 1, OptionRange::Closed(1, 4), kResult,                                                    \
+  X(int, prior_rounds, 2, 1, 1, OptionRange::Closed(1, 4), kResult,                                                    \
     "geometric prior: rounds of (planar prior from the last geometric pass, geometric pass); 1 = the paper")           \
   X(double, geom_weight, 0.2, 0.2, 0.2, OptionRange::Closed(0, 100), kResult, "lambda of the geometric term")          \
   X(double, geom_max_error, 2.0, 2.0, 2.0, OptionRange::OpenClosed(0, 100), kResult,                                   \
@@ -130,7 +130,7 @@ namespace mpmvs {
   X(int, max_source_images, 20, 20, 20, OptionRange::Closed(1, 32), kResult, "source images used per reference")       \
   X(int, seed, 1, 1, 1, OptionRange::Closed(0, 2147483647), kResult,                                                   \
     "random streams (results do not depend on thread count)")                                                          \
-  X(int, settled_pixel_skips, 0, 0, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
+  X(int, settled_pixel_skips, 0, 2, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
     "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many of its next "        \
     "updates at the same window scale; 0 = every pixel in every pass (paper)")                                         \
   X(int, costed_views, 0, 3, 0, OptionRange::Closed(0, 32), kResultWhenSet,                                            \

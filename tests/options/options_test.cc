@@ -133,13 +133,14 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(iterations, 21);
   EXPECT_EQ(StateOptionsText(Parse({"--MPMVS.preset", "default"})), StateOptionsText(MpMvsOptions{}));
 
-  // fast: one window scale fewer, fewer iterations per stage, the candidates costed in three
-  // views.
+  // fast: one window scale fewer, fewer iterations per stage, one prior round, settled pixels
+  // skip two updates, the candidates costed in three views.
   const MpMvsOptions fast = Parse({"--MPMVS.preset", "fast"}, &colmap);
   EXPECT_EQ(StageNames(MakePipelinePlan(colmap, fast), &iterations),
-            (std::vector<std::string>{"photometric", "geometric1", "prior", "geometric2", "prior2", "geometric3",
-                                      "depth_check"}));
-  EXPECT_EQ(iterations, 11);
+            (std::vector<std::string>{"photometric", "geometric1", "prior", "geometric2", "depth_check"}));
+  EXPECT_EQ(iterations, 8);
+  EXPECT_EQ(fast.prior_rounds, 1);
+  EXPECT_EQ(fast.settled_pixel_skips, 2);
   EXPECT_EQ(fast.costed_views, 3);
   EXPECT_EQ(fast.max_window_scale, 1);
   EXPECT_EQ(fast.chroma_weight, MpMvsOptions().chroma_weight);
