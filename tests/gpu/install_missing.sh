@@ -4,7 +4,7 @@
 install_missing() {
   local missing=() pkg sudo=""
   for pkg in "$@"; do
-    [[ $(dpkg-query -W -f='${Status}' "$pkg" 2> /dev/null) == "install ok installed" ]] || missing+=("$pkg")
+    [[ $(dpkg-query -W -f='${Status}' "$pkg" 2> /dev/null) == *"install ok installed"* ]] || missing+=("$pkg")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
   echo "installing Debian's ${missing[*]}"
