@@ -74,8 +74,9 @@ namespace mpmvs {
   X(geom_consistency_regularizer, "use --MPMVS.geom_weight")                                                           \
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
-// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (8 iterations of
-// the default's 21, one prior round, settled pixels skip updates: docs/results.md) and `--MPMVS.preset paper` (MP-MVS as published).
+// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (8 iterations
+// of the default's 21, one prior round, settled pixels skip updates: docs/results.md) and
+// `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
 // X(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)

@@ -230,7 +230,7 @@ void SetWholeRunCounters(const MpPatchMatchSummary& summary, benchmark::State* s
 // The whole run on a real two-view Middlebury 2014 pair (~0.36 Mpx each), both images.
 // Arg 0: the ACMH baseline of issue 4 (ablation row "ACMH": 11 px windows, ACMH pattern, no
 // prior; photometric + two geometric passes), the "under 5 s on 2 cores" target.
-// Arg 1: the default MP-MVS pipeline (6 stages, 21 iterations: two prior rounds).
+// Arg 1: the default MP-MVS pipeline (7 stages, 21 iterations: two prior rounds).
 // Arg 2: the same with --MPMVS.settled_pixel_skips 2 (kernels/DESIGN.md 27).
 // Arg 3: --MPMVS.preset fast.
 void BM_MiddleburyTwoViewPipeline(benchmark::State& state) {
