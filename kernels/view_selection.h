@@ -36,6 +36,12 @@ MPMVS_HD inline uint32_t SelectViews(const float* costs, const bool* candidate_v
   float total = 0.f;
   const float tau = params.good_threshold;
   for (int s = 0; s < num_views; ++s) {
+    // A view without prior (one not costed, with costed_views) gets probability 0 whatever
+    // its costs: its statistics need not be gathered.
+    if (prior[s] == 0.f) {
+      prob[s] = 0.f;
+      continue;
+    }
     int n_good = 0, n_bad = 0;
     float good_sum = 0.f;
     for (int k = 0; k < kNumRegions; ++k) {

@@ -5,7 +5,6 @@
 
 #include "colmap_ext/plan/kernel_camera.h"
 #include "colmap_ext/prior/epipolar_texture.h"
-#include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/util/logging.h"
 
 namespace mpmvs {
@@ -49,7 +48,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
   auto ref_image = store->Image(p.ref);
   ref->images.push_back(ref_image);
   problem.ref_image = kernels::ImageView{ref_image->data.data(), ref_image->width, ref_image->height};
-  if (stage.schedule.noise_floor) problem.ref_noise_variance = EstimateNoiseVariance(*ref_image);
+  if (stage.schedule.noise_floor) problem.ref_noise_variance = store->NoiseVariance(p.ref);
   if (guide_weight > 0) {
     ref->chroma = store->ChromaGuide(p.ref);
     if (!ref->chroma->empty()) problem.ref_image.chroma = ref->chroma->data();
@@ -82,7 +81,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
 // the reference's own, as the reference cannot check them: photometric cost below
 // source_max_photo_cost and, with the texture-adaptive prior, a window of the finest scale
 // that is not plain. options.max_vertex_bend applies as to the reference's own.
-std::vector<PlanarPriorVertex> SourceViewVertices(const StagePlan& stage, const std::string& input_stage,
+std::vector<PlanarPriorVertex> SourceViewVertices(const std::string& input_stage,
                                                   const PlanarPriorOptions& options, bool adaptive,
                                                   StageStore* store, const StageReference& ref) {
   const kernels::PatchMatchProblem& problem = ref.pm;
@@ -96,11 +95,7 @@ std::vector<PlanarPriorVertex> SourceViewVertices(const StagePlan& stage, const 
     const kernels::Camera& camera = problem.sources[k].camera;
     const std::vector<float> depth = ResultDepth(result, camera, 0.f, std::numeric_limits<float>::max());
     std::vector<uint8_t> excluded;  // pixels that are no vertices
-    if (adaptive) {
-      // ref.images holds the reference first, then the sources in problem.sources' order.
-      excluded = kernels::PlainWindowMaskCpu(problem.sources[k].image, kernels::WindowForScale(0),
-                                             EstimateNoiseVariance(*ref.images[k + 1]), stage.schedule.num_threads);
-    }
+    if (adaptive) excluded = *store->PlainWindows(src, 0);
     ExcludeBentDepths(camera.width, camera.height, depth, options.max_vertex_bend, &excluded);
     const std::vector<PlanarPriorVertex> own =
         SelectPriorVertices(camera.width, camera.height, depth, result.photo_cost, result.geo_error, source_options,
@@ -127,10 +122,8 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   if (adaptive) {
     constexpr int kVertexTextureScale = 1;
     const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
-    kernels::ImageView grey = problem.ref_image;
-    grey.chroma = nullptr;  // colour edges split the bilateral window, yet are texture
-    excluded = kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(std::min(kVertexTextureScale, coarsest)),
-                                           problem.ref_noise_variance, stage.schedule.num_threads);
+    // Of the grey image: colour edges split the bilateral window, yet are texture.
+    excluded = *store->PlainWindows(p.ref, std::min(kVertexTextureScale, coarsest));
   }
   // Vertices where the depth bends (kernels/DESIGN.md 25): gp, from an estimate that
   // followed no prior yet.
@@ -142,7 +135,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   }
   std::vector<PlanarPriorVertex> source_vertices;
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
-  if (use_sources) source_vertices = SourceViewVertices(stage, input_stage, options, adaptive, store, *ref);
+  if (use_sources) source_vertices = SourceViewVertices(input_stage, options, adaptive, store, *ref);
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
                                 p.depth_min, p.depth_max, options, &ref->input.plane,
                                 excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr,

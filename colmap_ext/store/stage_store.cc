@@ -9,6 +9,7 @@
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/plan/kernel_camera.h"
 #include "colmap_ext/prior/chroma_guide.h"
+#include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
@@ -74,19 +75,33 @@ StageStore::StageStore(const DenseWorkspace& workspace, WorkspaceIo* io, const R
       io_(io),
       plan_(plan),
       fingerprint_(fingerprint),
-      images_(plan.cache_bytes / 3, [this](const int& view) { return io_->ReadGray(workspace_, view); },
+      images_(plan.cache_bytes / 16 * 5, [this](const int& view) { return io_->ReadGray(workspace_, view); },
               [](const GrayImage& img) { return CacheBytes(img.data); }),
-      chroma_guides_(plan.cache_bytes / 3, [this](const int& view) { return ReadChromaGuide(view); },
+      chroma_guides_(plan.cache_bytes / 16 * 5, [this](const int& view) { return ReadChromaGuide(view); },
                      CacheBytes),
-      depths_(plan.cache_bytes / 3,
+      depths_(plan.cache_bytes / 16 * 5,
               [this](const std::pair<int, int>& key) {
                 const int view = key.second;
                 const ReferenceProblem& p = problems_.at(view);
                 return ResultDepth(ReadState(view, plan_.pipeline.stages[key.first].name),
                                    ToKernelCamera(workspace_.views[view]), p.depth_min, p.depth_max);
               },
-              CacheBytes) {
+              CacheBytes),
+      plain_windows_(plan.cache_bytes / 16,
+                     [this](const std::pair<int, int>& key) {
+                       const std::shared_ptr<const GrayImage> image = Image(key.first);
+                       return kernels::PlainWindowMaskCpu(
+                           kernels::ImageView{image->data.data(), image->width, image->height},
+                           kernels::WindowForScale(key.second), NoiseVariance(key.first), plan_.num_threads);
+                     },
+                     [](const std::vector<uint8_t>& mask) { return mask.size(); }) {
   for (const ReferenceProblem& p : problems) problems_.emplace(p.ref, p);
+}
+
+float StageStore::NoiseVariance(int view) {
+  auto it = noise_variances_.find(view);
+  if (it == noise_variances_.end()) it = noise_variances_.emplace(view, EstimateNoiseVariance(*Image(view))).first;
+  return it->second;
 }
 
 std::string StageStore::StatePath(int view, const std::string& stage) const {

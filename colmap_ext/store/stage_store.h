@@ -2,7 +2,8 @@
 // What the stages hand each other and share, like COLMAP's CachedWorkspace: every stage's
 // result per image in stereo/mpmvs/NAME.STAGE.state.bin (the only way a stage reads another
 // stage's work) with its record NAME.STAGE.state.json (state_record.h), and the grey images, colour guides and source depth maps that several
-// reference images use, in LRU caches bounded by --PatchMatchStereo.cache_size (a third each).
+// reference images use, in LRU caches bounded by --PatchMatchStereo.cache_size (5/16 each),
+// with the images' plain-window masks of the planar prior (the last 1/16: a byte per pixel).
 #include <map>
 #include <memory>
 #include <string>
@@ -88,6 +89,15 @@ class StageStore {
   std::shared_ptr<const std::vector<float>> SourceDepth(int stage_index, int view) {
     return depths_.Get({stage_index, view});
   }
+  // The noise variance of a view's grey image (EstimateNoiseVariance), estimated once.
+  float NoiseVariance(int view);
+  // 1 where the view's grey window of this mPM scale is plain at the image's noise
+  // (kernels::PlainWindowMaskCpu): every reference whose prior takes vertices from this
+  // view asks for it, in every prior round, and each costs a textured reference window per
+  // pixel.
+  std::shared_ptr<const std::vector<uint8_t>> PlainWindows(int view, int window_scale) {
+    return plain_windows_.Get({view, window_scale});
+  }
 
  private:
   std::vector<float> ReadChromaGuide(int view) const;
@@ -120,6 +130,8 @@ class StageStore {
   LruCache<int, GrayImage> images_;
   LruCache<int, std::vector<float>> chroma_guides_;
   LruCache<std::pair<int, int>, std::vector<float>> depths_;
+  std::map<int, float> noise_variances_;
+  LruCache<std::pair<int, int>, std::vector<uint8_t>> plain_windows_;  // (view, window scale)
 };
 
 }  // namespace mpmvs

@@ -1,0 +1,53 @@
+// What StageStore derives from a view's image once for every reference that uses it.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "colmap_ext/io/workspace_io.h"
+#include "colmap_ext/plan/reference_problems.h"
+#include "colmap_ext/plan/run_plan.h"
+#include "colmap_ext/prior/image_noise.h"
+#include "colmap_ext/store/result_fingerprint.h"
+#include "colmap_ext/store/stage_store.h"
+#include "kernels/patch_match.h"
+#include "tests/test_util.h"
+
+namespace mpmvs {
+namespace {
+
+// The prior's plain-window masks and noise variances: the same as computing them afresh
+// from the view's image, and computed once (the second request gets the same object).
+TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
+  MpMvsWorkspaceIo io;
+  const DenseWorkspace workspace = io.Load(tmp / "ws", -1);
+  const PatchMatchStereoOptions colmap_options;
+  const MpMvsOptions options;
+  const RunPlan plan = MakeRunPlan(colmap_options, options, false);
+  const std::vector<ReferenceProblem> problems =
+      LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
+  ASSERT_EQ(problems.size(), 3u);
+  StageStore store(workspace, &io, plan, problems,
+                   MakeResultFingerprint(colmap_options, options, workspace, problems));
+
+  for (int view = 0; view < 3; ++view) {
+    const GrayImage image = io.ReadGray(workspace, view);
+    const float noise = EstimateNoiseVariance(image);
+    EXPECT_EQ(store.NoiseVariance(view), noise) << view;
+    const kernels::ImageView grey{image.data.data(), image.width, image.height};
+    for (int scale : {0, 1}) {
+      const std::vector<uint8_t> expected =
+          kernels::PlainWindowMaskCpu(grey, kernels::WindowForScale(scale), noise, 1);
+      const std::shared_ptr<const std::vector<uint8_t>> mask = store.PlainWindows(view, scale);
+      EXPECT_EQ(*mask, expected) << "view " << view << ", scale " << scale;
+      EXPECT_EQ(store.PlainWindows(view, scale), mask) << "view " << view << ", scale " << scale;
+    }
+  }
+  // The scales differ somewhere (a test of a mask that ignored the scale would pass above).
+  EXPECT_NE(*store.PlainWindows(0, 0), *store.PlainWindows(0, 1));
+}
+
+}  // namespace
+}  // namespace mpmvs
