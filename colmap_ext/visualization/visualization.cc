@@ -311,10 +311,16 @@ bool RobustRange(const std::vector<float>& values, double lo_quantile, double hi
     if (std::isfinite(x) && x > 0) v.push_back(x);
   }
   if (v.empty()) return false;
-  std::sort(v.begin(), v.end());
+  // Two selections, not a sort: the same order statistics in linear time (a sort of every
+  // depth was 0.5 % of a whole run, on the main thread between images).
   const size_t n = v.size();
-  *value_min = v[std::min(n - 1, static_cast<size_t>(lo_quantile * (n - 1)))];
-  *value_max = v[std::min(n - 1, static_cast<size_t>(hi_quantile * (n - 1)))];
+  const size_t lo = std::min(n - 1, static_cast<size_t>(lo_quantile * (n - 1)));
+  const size_t hi = std::min(n - 1, static_cast<size_t>(hi_quantile * (n - 1)));
+  std::nth_element(v.begin(), v.begin() + lo, v.end());
+  *value_min = v[lo];
+  if (hi > lo) std::nth_element(v.begin() + lo + 1, v.begin() + hi, v.end());
+  if (hi < lo) std::nth_element(v.begin(), v.begin() + hi, v.begin() + lo);
+  *value_max = v[hi];
   if (*value_max <= *value_min) *value_max = *value_min + 1e-6;
   return true;
 }
