@@ -1,12 +1,11 @@
 #include "colmap_ext/pipeline/backend.h"
 
 #include <algorithm>
-#include <exception>
-#include <system_error>
 #include <thread>
 
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/logging.h"
+#include "colmap_ext/util/thread_range.h"
 
 namespace mpmvs {
 
@@ -71,29 +70,12 @@ void Backend::RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem,
                                    const kernels::PatchMatchSchedule& schedule, kernels::PatchMatchResult* result,
                                    const kernels::NextProblemCallback& side_work,
                                    const kernels::ProgressCallback& progress) const {
-  std::exception_ptr side_error;
-  auto run_side_work = [&] {
-    try {
-      side_work();
-    } catch (...) {
-      side_error = std::current_exception();
-    }
-  };
-  std::thread side;
-  try {
-    side = std::thread(run_side_work);
-  } catch (const std::system_error&) {
-    run_side_work();  // no thread to spare: the side work first, as without overlap
-  }
-  try {
-    kernels::RunPatchMatchCpu(problem, schedule, result, progress);
-    MedianFilter(problem, result);
-  } catch (...) {
-    if (side.joinable()) side.join();
-    throw;
-  }
-  if (side.joinable()) side.join();
-  if (side_error) std::rethrow_exception(side_error);
+  // Without a thread to spare the side work runs first, as without overlap.
+  RunBeside([&] { side_work(); },
+            [&] {
+              kernels::RunPatchMatchCpu(problem, schedule, result, progress);
+              MedianFilter(problem, result);
+            });
 }
 
 void Backend::LogCacheStats() const {

@@ -1,6 +1,8 @@
 #include "colmap_ext/util/thread_range.h"
 
 #include <algorithm>
+#include <exception>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -23,6 +25,31 @@ void RunRangeInThreads(int n, int num_threads,
     workers.emplace_back(body, begin, std::min(n, begin + chunk));
   }
   for (std::thread& w : workers) w.join();
+}
+
+void RunBeside(const std::function<void()>& side, const std::function<void()>& here) {
+  std::exception_ptr side_error;
+  auto run_side = [&] {
+    try {
+      side();
+    } catch (...) {
+      side_error = std::current_exception();
+    }
+  };
+  std::thread thread;
+  try {
+    thread = std::thread(run_side);
+  } catch (const std::system_error&) {
+    run_side();
+  }
+  try {
+    here();
+  } catch (...) {
+    if (thread.joinable()) thread.join();
+    throw;
+  }
+  if (thread.joinable()) thread.join();
+  if (side_error) std::rethrow_exception(side_error);
 }
 
 }  // namespace mpmvs
