@@ -20,17 +20,18 @@ void ExcludeBentDepths(int W, int H, const std::vector<float>& depth, float max_
 }
 
 // The pixels of the reference's selected prior vertices whose window of the finest scale
-// varies along no source's epipolar line beyond the image noise: a plane
-// through the window's edge matches in every view wherever the vertex lies along it, so the
-// vertex votes but is no triangle corner (kernels/DESIGN.md 29).
+// varies along no source's epipolar line beyond the image noise: a plane through the
+// window's edge matches in every view wherever the vertex lies along it, so the vertex
+// votes but is no triangle corner (kernels/DESIGN.md 29).
 std::vector<uint8_t> EpipolarBlindCandidates(const kernels::PatchMatchProblem& problem, const std::vector<float>& depth,
                                              const kernels::PatchMatchResult& input,
                                              const PlanarPriorOptions& options,
                                              const std::vector<uint8_t>& excluded) {
   constexpr float kMaxDifferenceToNoise = 2.f;  // as a plain window's texture (PlainWindow)
   // Only the pixels BuildPlanarPrior selects as vertices read the mask (its selection with
-  // the same inputs): a fifth to a seventh of the candidates (adirondack 34 k of 220 k),
-  // whose test took 0.05 of the 0.3 s in which a prior model was built.
+  // the same inputs, which AddPlanarPrior must keep so): a quarter to a seventh of the
+  // candidates (adirondack 34 k of 220 k, an 8-view room 9-12 k of 39-60 k), whose test took
+  // 0.05 of the 0.3 s in which a prior model was built.
   const int W = problem.ref_camera.width;
   std::vector<uint8_t> candidate(depth.size(), 0);
   for (const PlanarPriorVertex& vertex :
@@ -141,6 +142,8 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   std::vector<PlanarPriorVertex> source_vertices;
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
   if (use_sources) source_vertices = SourceViewVertices(input_stage, options, adaptive, store, *ref);
+  // depth, costs, options and excluded as EpipolarBlindCandidates had them: it marks only the
+  // vertices this selects.
   ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
                                 p.depth_min, p.depth_max, options, &ref->input.plane,
                                 excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr,

@@ -3,7 +3,8 @@
 // result per image in stereo/mpmvs/NAME.STAGE.state.bin (the only way a stage reads another
 // stage's work) with its record NAME.STAGE.state.json (state_record.h), and the grey images, colour guides and source depth maps that several
 // reference images use, in LRU caches bounded by --PatchMatchStereo.cache_size (5/16 each),
-// with the images' plain-window masks of the planar prior (the last 1/16: a byte per pixel).
+// with the images' plain-window masks of the planar prior (the last 1/16: a byte per pixel
+// and window scale).
 #include <map>
 #include <memory>
 #include <string>

@@ -312,14 +312,14 @@ bool RobustRange(const std::vector<float>& values, double lo_quantile, double hi
   }
   if (v.empty()) return false;
   // Two selections, not a sort: the same order statistics in linear time (a sort of every
-  // depth was 0.5 % of a whole run, on the main thread between images).
+  // depth was 0.5 % of a whole run). With hi < lo, v[hi] <= v[lo] whatever it holds after the
+  // first selection, and the range is widened below: no second selection is needed.
   const size_t n = v.size();
   const size_t lo = std::min(n - 1, static_cast<size_t>(lo_quantile * (n - 1)));
   const size_t hi = std::min(n - 1, static_cast<size_t>(hi_quantile * (n - 1)));
   std::nth_element(v.begin(), v.begin() + lo, v.end());
   *value_min = v[lo];
   if (hi > lo) std::nth_element(v.begin() + lo + 1, v.begin() + hi, v.end());
-  if (hi < lo) std::nth_element(v.begin(), v.begin() + hi, v.begin() + lo);
   *value_max = v[hi];
   if (*value_max <= *value_min) *value_max = *value_min + 1e-6;
   return true;
