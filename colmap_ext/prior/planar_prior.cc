@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 #include "colmap_ext/util/thread_range.h"
 #include "kernels/patch_match_pixel.h"
@@ -222,8 +223,7 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes,
-                                                   const std::vector<uint8_t>* excluded,
-                                                   const std::vector<uint8_t>* voter_only) {
+                                                   const std::vector<uint8_t>* excluded) {
   const bool geometric = options.selection == PlanarPriorOptions::Selection::kGeometric;
   const int per_cell = geometric ? options.points_per_cell : 1;
   const int cs = options.cell_size;
@@ -254,7 +254,6 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int W, int H, const std::vect
         const int i = candidates[k].second;
         PlanarPriorVertex vertex{i % W, i / W, depth[i]};
         if (planes) vertex.normal = Vec3{(*planes)[4 * i], (*planes)[4 * i + 1], (*planes)[4 * i + 2]};
-        vertex.corner = !(voter_only && (*voter_only)[i]);
         vertices.push_back(vertex);
       }
     }
@@ -268,15 +267,25 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes,
                                   const std::vector<uint8_t>* excluded,
-                                  const std::vector<PlanarPriorVertex>* outside_vertices,
-                                  const std::vector<uint8_t>* voter_only) {
+                                  const std::vector<PlanarPriorVertex>* outside_vertices) {
+  return PlanarPriorFromVertices(
+      camera,
+      SelectPriorVertices(camera.width, camera.height, depth, photo_cost, geo_error, options, planes, excluded),
+      depth_min, depth_max, options, outside_vertices);
+}
+
+PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vector<PlanarPriorVertex> vertices,
+                                         float depth_min, float depth_max, const PlanarPriorOptions& options,
+                                         const std::vector<PlanarPriorVertex>* outside_vertices) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
+  model.vertices = std::move(vertices);
   // Without the vote a vertex that may not be a corner would serve no purpose: all are corners.
-  model.vertices = SelectPriorVertices(W, H, depth, photo_cost, geo_error, options, planes, excluded,
-                                       options.plane_vote ? voter_only : nullptr);
+  if (!options.plane_vote) {
+    for (PlanarPriorVertex& vertex : model.vertices) vertex.corner = true;
+  }
   if (outside_vertices) {
     model.num_outside_vertices =
         AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);

@@ -49,7 +49,7 @@ struct PlanarPriorVertex {
   float depth = 0;
   kernels::Vec3 normal{0.f, 0.f, 0.f};  // the pixel's plane normal (0: unknown)
   // false: the vertex votes on the planes of the triangles around it but is no triangle's
-  // corner (BuildPlanarPrior's voter_only).
+  // corner (PlanarPriorFromVertices).
   bool corner = true;
 };
 
@@ -69,18 +69,23 @@ struct PlanarPriorModel {
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
 // of other views in this camera (TransferPriorVertices); those outside the image, within
 // half its size of its border and inside [depth_min, depth_max], join the selected ones,
-// at most points_per_cell per cell. voter_only (W*H, optional; only with options.plane_vote):
-// 1 on pixels whose vertices are no triangle corners but vote on the planes of the
-// triangles around the triangle they fall in, weighing the square root of a third of its
-// area; outside every triangle they do nothing (kernels/DESIGN.md 29).
+// at most points_per_cell per cell. Every selected vertex is a triangle corner.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
                                   float depth_max, const PlanarPriorOptions& options,
                                   const std::vector<float>* planes = nullptr,
                                   const std::vector<uint8_t>* excluded = nullptr,
-                                  const std::vector<PlanarPriorVertex>* outside_vertices = nullptr,
-                                  const std::vector<uint8_t>* voter_only = nullptr);
+                                  const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
+
+// BuildPlanarPrior's model from vertices already selected (SelectPriorVertices), for callers
+// that mark some as no corners between the selection and the build. With options.plane_vote
+// a vertex with corner false is no triangle corner but votes on the planes of the triangles
+// around the triangle it falls in, weighing the square root of a third of its area; outside
+// every triangle it does nothing (kernels/DESIGN.md 29). Without the vote all are corners.
+PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vector<PlanarPriorVertex> vertices,
+                                         float depth_min, float depth_max, const PlanarPriorOptions& options,
+                                         const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
 
 // Vertices of a source view seen from the reference camera: pixel (rounded) and depth in
 // the reference, normal rotated into its frame. Points behind the reference are dropped;
@@ -106,7 +111,6 @@ std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& geo_error,
                                                    const PlanarPriorOptions& options,
                                                    const std::vector<float>* planes = nullptr,
-                                                   const std::vector<uint8_t>* excluded = nullptr,
-                                                   const std::vector<uint8_t>* voter_only = nullptr);
+                                                   const std::vector<uint8_t>* excluded = nullptr);
 
 }  // namespace mpmvs

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 #include "colmap_ext/plan/kernel_camera.h"
 #include "colmap_ext/prior/epipolar_texture.h"
@@ -19,30 +20,25 @@ void ExcludeBentDepths(int W, int H, const std::vector<float>& depth, float max_
   for (size_t i = 0; i < bent.size(); ++i) (*excluded)[i] |= bent[i];
 }
 
-// The pixels of the reference's selected prior vertices whose window of the finest scale
+// Marks as no triangle corners the reference's vertices whose window of the finest scale
 // varies along no source's epipolar line beyond the image noise: a plane through the
 // window's edge matches in every view wherever the vertex lies along it, so the vertex
-// votes but is no triangle corner (kernels/DESIGN.md 29).
-std::vector<uint8_t> EpipolarBlindCandidates(const kernels::PatchMatchProblem& problem, const std::vector<float>& depth,
-                                             const kernels::PatchMatchResult& input,
-                                             const PlanarPriorOptions& options,
-                                             const std::vector<uint8_t>& excluded) {
+// votes but is no triangle corner (kernels/DESIGN.md 29). Only the selected vertices are
+// tested: a quarter to a seventh of the candidates (adirondack 34 k of 220 k, an 8-view room
+// 9-12 k of 39-60 k), whose test took 0.05 of the 0.3 s in which a prior model was built.
+void MarkEpipolarBlindVertices(const kernels::PatchMatchProblem& problem, int num_threads,
+                               std::vector<PlanarPriorVertex>* vertices) {
   constexpr float kMaxDifferenceToNoise = 2.f;  // as a plain window's texture (PlainWindow)
-  // Only the pixels BuildPlanarPrior selects as vertices read the mask (its selection with
-  // the same inputs, which AddPlanarPrior must keep so): a quarter to a seventh of the
-  // candidates (adirondack 34 k of 220 k, an 8-view room 9-12 k of 39-60 k), whose test took
-  // 0.05 of the 0.3 s in which a prior model was built.
   const int W = problem.ref_camera.width;
-  std::vector<uint8_t> candidate(depth.size(), 0);
-  for (const PlanarPriorVertex& vertex :
-       SelectPriorVertices(W, problem.ref_camera.height, depth, input.photo_cost, input.geo_error, options, nullptr,
-                           excluded.empty() ? nullptr : &excluded)) {
-    candidate[static_cast<size_t>(vertex.v) * W + vertex.u] = 1;
-  }
+  auto pixel = [W](const PlanarPriorVertex& vertex) { return static_cast<size_t>(vertex.v) * W + vertex.u; };
+  std::vector<uint8_t> candidate(static_cast<size_t>(W) * problem.ref_camera.height, 0);
+  for (const PlanarPriorVertex& vertex : *vertices) candidate[pixel(vertex)] = 1;
   std::vector<kernels::Camera> sources;
   for (const kernels::PatchMatchSource& source : problem.sources) sources.push_back(source.camera);
-  return EpipolarBlindMask(problem.ref_image, problem.ref_camera, sources, kernels::WindowForScale(0), problem.ref_noise_variance,
-                           kMaxDifferenceToNoise, candidate, options.num_threads);
+  const std::vector<uint8_t> blind =
+      EpipolarBlindMask(problem.ref_image, problem.ref_camera, sources, kernels::WindowForScale(0),
+                        problem.ref_noise_variance, kMaxDifferenceToNoise, candidate, num_threads);
+  for (PlanarPriorVertex& vertex : *vertices) vertex.corner = !blind[pixel(vertex)];
 }
 
 // The reference's and its sources' images and, in geometric stages, the sources' depth
@@ -135,19 +131,17 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   // followed no prior yet.
   if (!stage.prior_geometric_selection || BuildsOnPrior(plan.pipeline, stage.input)) options.max_vertex_bend = 0.f;
   ExcludeBentDepths(problem.ref_camera.width, problem.ref_camera.height, depth, options.max_vertex_bend, &excluded);
-  std::vector<uint8_t> voter_only;
+  std::vector<PlanarPriorVertex> vertices =
+      SelectPriorVertices(problem.ref_camera.width, problem.ref_camera.height, depth, ref->input.photo_cost,
+                          ref->input.geo_error, options, &ref->input.plane, excluded.empty() ? nullptr : &excluded);
   if (adaptive && stage.prior_geometric_selection && options.plane_vote) {
-    voter_only = EpipolarBlindCandidates(problem, depth, ref->input, options, excluded);
+    MarkEpipolarBlindVertices(problem, options.num_threads, &vertices);
   }
   std::vector<PlanarPriorVertex> source_vertices;
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
   if (use_sources) source_vertices = SourceViewVertices(input_stage, options, adaptive, store, *ref);
-  // depth, costs, options and excluded as EpipolarBlindCandidates had them: it marks only the
-  // vertices this selects.
-  ref->prior = BuildPlanarPrior(problem.ref_camera, depth, ref->input.photo_cost, ref->input.geo_error,
-                                p.depth_min, p.depth_max, options, &ref->input.plane,
-                                excluded.empty() ? nullptr : &excluded, use_sources ? &source_vertices : nullptr,
-                                voter_only.empty() ? nullptr : &voter_only);
+  ref->prior = PlanarPriorFromVertices(problem.ref_camera, std::move(vertices), p.depth_min, p.depth_max, options,
+                                       use_sources ? &source_vertices : nullptr);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;

@@ -212,7 +212,19 @@ TEST(PlanarPrior, TrianglesAcrossADepthStepTakeAPlaneOfOneSide) {
   EXPECT_GT(between, 0);
 }
 
-// Voter-only vertices (BuildPlanarPrior's voter_only) are no triangle corners, yet their votes
+// BuildPlanarPrior's model where the selected vertices on voter_only's pixels are no corners
+// (as the prior stage marks the epipolar-blind ones).
+PlanarPriorModel PriorWithVoters(const kernels::Camera& cam, const std::vector<float>& depth,
+                                 const std::vector<float>& photo, const std::vector<float>& geo,
+                                 const PlanarPriorOptions& options, const std::vector<float>* planes,
+                                 const std::vector<uint8_t>& voter_only) {
+  std::vector<PlanarPriorVertex> vertices =
+      SelectPriorVertices(cam.width, cam.height, depth, photo, geo, options, planes);
+  for (PlanarPriorVertex& vertex : vertices) vertex.corner = !voter_only[static_cast<size_t>(vertex.v) * cam.width + vertex.u];
+  return PlanarPriorFromVertices(cam, std::move(vertices), 1.f, 10.f, options);
+}
+
+// Voter-only vertices (corner false) are no triangle corners, yet their votes
 // count. A fronto-parallel wall A (depth 5) holds the corners; a plane B crosses it along
 // row 20, where the corners carry B's normal, so B is a candidate of the triangles there.
 // The corners are 10 px apart; two voter-only vertices per 5 px cell lie on B and outvote
@@ -243,8 +255,7 @@ TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
     }
   }
   PlanarPriorOptions options;
-  const PlanarPriorModel voting =
-      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, nullptr, nullptr, &voter_only);
+  const PlanarPriorModel voting = PriorWithVoters(cam, depth, photo, geo, options, &planes, voter_only);
   const PlanarPriorModel excluded = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, &voter_only);
   int num_voters = 0;
   for (const PlanarPriorVertex& vertex : voting.vertices) num_voters += !vertex.corner;
@@ -271,8 +282,7 @@ TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
   EXPECT_LT(voting.num_vote_only_vertices, num_voters);
   // Without the vote there is nothing to vote on: every selected vertex is a corner.
   options.plane_vote = false;
-  const PlanarPriorModel paper =
-      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes, nullptr, nullptr, &voter_only);
+  const PlanarPriorModel paper = PriorWithVoters(cam, depth, photo, geo, options, &planes, voter_only);
   for (const PlanarPriorVertex& vertex : paper.vertices) EXPECT_TRUE(vertex.corner);
   EXPECT_EQ(paper.num_vote_only_vertices, 0);
 }
@@ -290,8 +300,7 @@ TEST(PlanarPrior, VoteOnlyVertexBesideCollinearCornersIsIgnored) {
   photo[22 * W + 13] = 0.06f;  // off the line
   voter_only[22 * W + 13] = 1;
   PlanarPriorOptions options;
-  const PlanarPriorModel model =
-      BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, nullptr, nullptr, nullptr, &voter_only);
+  const PlanarPriorModel model = PriorWithVoters(cam, depth, photo, geo, options, nullptr, voter_only);
   EXPECT_EQ(model.vertices.size(), 10u);
   EXPECT_TRUE(model.triangles.empty());
   EXPECT_EQ(model.num_vote_only_vertices, 0);
