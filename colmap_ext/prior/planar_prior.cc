@@ -99,6 +99,10 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
     std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
     std::vector<int> voters;
     std::vector<kernels::Plane> candidates;
+    // The candidates' planes side by side and their votes: each voter is weighed against all
+    // candidates in one branch-free loop the compiler vectorises, and each candidate's votes
+    // still add up in the voters' order.
+    std::vector<float> nx, ny, nz, d, votes;
     for (int f = begin; f < end; ++f) {
       const int stamp = f;
       voters.clear();
@@ -122,18 +126,33 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
           candidates.push_back(own[g]);
         }
       }
+      const size_t nc = candidates.size();
+      for (auto* column : {&nx, &ny, &nz, &d}) column->resize(nc);
+      for (size_t c = 0; c < nc; ++c) {
+        nx[c] = candidates[c].n.x;
+        ny[c] = candidates[c].n.y;
+        nz[c] = candidates[c].n.z;
+        d[c] = candidates[c].d;
+      }
+      votes.assign(nc, 0.f);
+      for (int j : voters) {
+        const Vec3 ray = rays[j];
+        const float depth = vertices[j].depth, w = weight[j];
+        for (size_t c = 0; c < nc; ++c) {
+          // kernels::PlaneDepth without its test for a ray parallel to the plane: there its
+          // -1 and this infinite or NaN depth are both outside every band.
+          const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, ray);
+          const float behind = (depth - z) / depth;
+          const bool in_band = std::isgreater(behind, -kInFront) & std::isless(behind, kBehind);
+          votes[c] += in_band ? w : 0.f;
+        }
+      }
       int best = 0;
       float best_votes = -1.f;
-      for (size_t c = 0; c < candidates.size(); ++c) {
-        float votes = 0.f;
-        for (int j : voters) {
-          const float z = kernels::PlaneDepth(candidates[c], rays[j]);
-          const float behind = (vertices[j].depth - z) / vertices[j].depth;
-          if (behind > -kInFront && behind < kBehind) votes += weight[j];
-        }
-        if (votes > best_votes) {
+      for (size_t c = 0; c < nc; ++c) {
+        if (votes[c] > best_votes) {
           best = static_cast<int>(c);
-          best_votes = votes;
+          best_votes = votes[c];
         }
       }
       chosen[f] = candidates[best];
