@@ -411,6 +411,10 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
   if (RefPatchIsFlat(patch) && FillFlatPixel(params, state, idx, ray, have, plane, init_cost)) return;
   const bool prior_pixel = PixelPriorActive(params, patch, idx);
   const bool geometric = PixelGeometric(params, prior_pixel);
+  // The costs of the plane kept, where choosing it already computed them.
+  bool costed = false;
+  float cost = 0.f, photo_cost = 0.f, geo_error = 0.f;
+  uint32_t view_mask = 0;
   if (prior_pixel && (!have || !init_cost || init_cost[idx] >= 0.1f)) {
     // ACMP restarts poorly matched pixels near the prior plane. Rather than overwriting the
     // earlier estimate, keep whichever of the two scores better under the prior score, so a
@@ -431,10 +435,14 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
         InitialCost<Ncc>(params, geometric, patch, u, v, ray, candidate, &c_new, &p_new, &g_new,
                          &m_new, num_ncc);
         const float beta = PixelPriorBeta(params, patch);
-        if (PriorScore(params.prior, beta, c_new, candidate, prior_plane, ray) >
-            PriorScore(params.prior, beta, c_old, plane, prior_plane, ray)) {
-          plane = candidate;
-        }
+        const bool take = PriorScore(params.prior, beta, c_new, candidate, prior_plane, ray) >
+                          PriorScore(params.prior, beta, c_old, plane, prior_plane, ray);
+        if (take) plane = candidate;
+        costed = true;
+        cost = take ? c_new : c_old;
+        photo_cost = take ? p_new : p_old;
+        geo_error = take ? g_new : g_old;
+        view_mask = take ? m_new : m_old;
       }
     }
   }
@@ -443,8 +451,11 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     plane = PlaneFromDepthNormal(ray, depth, RandomNormal(&rng, ray));
   }
   StorePlane(state.plane, idx, plane);
-  InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &state.cost[idx], &state.photo_cost[idx],
-                   &state.geo_error[idx], &state.view_mask[idx], num_ncc);
+  if (!costed) InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &cost, &photo_cost, &geo_error, &view_mask, num_ncc);
+  state.cost[idx] = cost;
+  state.photo_cost[idx] = photo_cost;
+  state.geo_error[idx] = geo_error;
+  state.view_mask[idx] = view_mask;
 }
 
 // Whether an update that took a pixel's plane from `before` to `after` left it settled: its
