@@ -451,7 +451,10 @@ MPMVS_HD inline void InitializePixel(const PassParams& params, const PixelState&
     plane = PlaneFromDepthNormal(ray, depth, RandomNormal(&rng, ray));
   }
   StorePlane(state.plane, idx, plane);
-  if (!costed) InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &cost, &photo_cost, &geo_error, &view_mask, num_ncc);
+  if (!costed) {
+    InitialCost<Ncc>(params, geometric, patch, u, v, ray, plane, &cost, &photo_cost, &geo_error, &view_mask,
+                     num_ncc);
+  }
   state.cost[idx] = cost;
   state.photo_cost[idx] = photo_cost;
   state.geo_error[idx] = geo_error;

@@ -140,11 +140,14 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
         const float depth = vertices[j].depth, w = weight[j];
         for (size_t c = 0; c < nc; ++c) {
           // kernels::PlaneDepth without its test for a ray parallel to the plane: there its
-          // -1 and this infinite or NaN depth are both outside every band.
+          // -1 and this infinite or NaN depth are both outside every band (a vertex's depth
+          // is > 0).
           const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, ray);
           const float behind = (depth - z) / depth;
-          const bool in_band = std::isgreater(behind, -kInFront) & std::isless(behind, kBehind);
-          votes[c] += in_band ? w : 0.f;
+          // Quiet comparisons, both evaluated: the compiler may then run them without a
+          // branch although float compares may trap (GCC's default -ftrapping-math).
+          const bool above = std::isgreater(behind, -kInFront), below = std::isless(behind, kBehind);
+          votes[c] += (above && below) ? w : 0.f;
         }
       }
       int best = 0;
@@ -301,13 +304,13 @@ PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vec
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
   model.label.assign(static_cast<size_t>(W) * H, 0);
   model.vertices = std::move(vertices);
-  // Without the vote a vertex that may not be a corner would serve no purpose: all are corners.
-  if (!options.plane_vote) {
-    for (PlanarPriorVertex& vertex : model.vertices) vertex.corner = true;
-  }
   if (outside_vertices) {
     model.num_outside_vertices =
         AddOutsideVertices(W, H, depth_min, depth_max, options, *outside_vertices, &model.vertices);
+  }
+  // Without the vote a vertex that may not be a corner would serve no purpose: all are corners.
+  if (!options.plane_vote) {
+    for (PlanarPriorVertex& vertex : model.vertices) vertex.corner = true;
   }
   if (model.vertices.size() < 3) return model;
 

@@ -21,7 +21,7 @@ struct PlanarPriorOptions {
   // VotedPlanes) instead of its own plane through its three vertices (false: the paper).
   bool plane_vote = true;
   // Geometric selection: vertices of the source views that fall outside the reference image
-  // join its triangulation (BuildPlanarPrior's outside_vertices), so that a surface whose
+  // join its triangulation (PlanarPriorFromVertices' outside_vertices), so that a surface whose
   // other edge the reference does not see is spanned from edge to edge.
   bool source_vertices = true;
   // A source vertex's photometric cost must be below this (ACMP's bar, stricter than
@@ -69,7 +69,9 @@ struct PlanarPriorModel {
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
 // of other views in this camera (TransferPriorVertices); those outside the image, within
 // half its size of its border and inside [depth_min, depth_max], join the selected ones,
-// at most points_per_cell per cell. Every selected vertex is a triangle corner.
+// at most points_per_cell per cell. Every selected vertex is a triangle corner. The prior
+// stage selects (SelectPriorVertices), marks and builds (PlanarPriorFromVertices) in steps;
+// this is the one-step form.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
                                   const std::vector<float>& photo_cost,
                                   const std::vector<float>& geo_error, float depth_min,
@@ -104,7 +106,9 @@ std::vector<uint8_t> BentDepthMask(int width, int height, const std::vector<floa
 // The prior planes' depth along each pixel's ray (0 where no triangle covers the pixel).
 std::vector<float> PriorDepthMap(const PlanarPriorModel& prior, const kernels::Camera& camera);
 
-// Selected vertices only (exposed for tests).
+// BuildPlanarPrior's selection: per cell_size cell, the best candidates (points_per_cell with
+// the geometric selection, else one), never on excluded pixels; planes (optional) gives
+// their normals. All are corners (corner true); PlanarPriorFromVertices builds the model.
 std::vector<PlanarPriorVertex> SelectPriorVertices(int width, int height,
                                                    const std::vector<float>& depth,
                                                    const std::vector<float>& photo_cost,

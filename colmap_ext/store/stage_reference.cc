@@ -79,7 +79,7 @@ void AddImagesAndSources(const StagePlan& stage, const std::string& input_stage,
 }
 
 // The sources' own prior vertices from their results of the input stage, seen from the
-// reference (BuildPlanarPrior keeps those outside its image). They pass a stricter test than
+// reference (PlanarPriorFromVertices keeps those outside its image). They pass a stricter test than
 // the reference's own, as the reference cannot check them: photometric cost below
 // source_max_photo_cost and, with the texture-adaptive prior, a window of the finest scale
 // that is not plain. options.max_vertex_bend applies as to the reference's own.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "colmap_ext/prior/planar_prior.h"
 
@@ -220,16 +221,18 @@ PlanarPriorModel PriorWithVoters(const kernels::Camera& cam, const std::vector<f
                                  const std::vector<uint8_t>& voter_only) {
   std::vector<PlanarPriorVertex> vertices =
       SelectPriorVertices(cam.width, cam.height, depth, photo, geo, options, planes);
-  for (PlanarPriorVertex& vertex : vertices) vertex.corner = !voter_only[static_cast<size_t>(vertex.v) * cam.width + vertex.u];
+  for (PlanarPriorVertex& vertex : vertices) {
+    vertex.corner = !voter_only[static_cast<size_t>(vertex.v) * cam.width + vertex.u];
+  }
   return PlanarPriorFromVertices(cam, std::move(vertices), 1.f, 10.f, options);
 }
 
-// Voter-only vertices (corner false) are no triangle corners, yet their votes
-// count. A fronto-parallel wall A (depth 5) holds the corners; a plane B crosses it along
-// row 20, where the corners carry B's normal, so B is a candidate of the triangles there.
-// The corners are 10 px apart; two voter-only vertices per 5 px cell lie on B and outvote
-// them near row 20. Left out altogether (excluded), they change nothing and every triangle
-// keeps A.
+// Voter-only vertices (corner false) are no triangle corners, yet their votes count. A
+// fronto-parallel wall A (depth 5) holds the corners; a plane B crosses it along row 20,
+// where the corners carry B's normal, so B is a candidate of the triangles there. The
+// corners are 10 px apart; two voter-only vertices per 5 px cell lie on B and outvote them
+// near row 20. Left out altogether (excluded), they change nothing and every triangle keeps
+// A.
 TEST(PlanarPrior, VoterOnlyVerticesVoteButAreNoCorners) {
   const int W = 60, H = 40;
   const kernels::Camera cam = MakeCamera(W, H);  // f 100, principal point (30, 20)
