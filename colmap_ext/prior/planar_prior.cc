@@ -98,15 +98,21 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
   RunRangeInThreads(static_cast<int>(faces.size()), num_threads, [&](int begin, int end) {
     std::vector<int> voter_stamp(nv, -1), face_stamp(faces.size(), -1);
     std::vector<int> voters;
-    std::vector<kernels::Plane> candidates;
-    // The candidates' planes side by side and their votes: each voter is weighed against all
-    // candidates in one branch-free loop the compiler vectorises, and each candidate's votes
-    // still add up in the voters' order.
+    // The candidate planes side by side (normal, offset) and their votes: each voter is
+    // weighed against all candidates in one branch-free loop the compiler vectorises, and
+    // each candidate's votes still add up in the voters' order.
     std::vector<float> nx, ny, nz, d, votes;
+    auto add_candidate = [&](const kernels::Plane& plane) {
+      nx.push_back(plane.n.x);
+      ny.push_back(plane.n.y);
+      nz.push_back(plane.n.z);
+      d.push_back(plane.d);
+    };
     for (int f = begin; f < end; ++f) {
       const int stamp = f;
       voters.clear();
-      candidates.assign(1, own[f]);
+      for (auto* column : {&nx, &ny, &nz, &d}) column->clear();
+      add_candidate(own[f]);
       face_stamp[f] = stamp;
       for (int k = 0; k < 3; ++k) {
         const int v = faces[f][k];
@@ -119,21 +125,14 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
           }
         }
         const Vec3& normal = vertices[v].normal;
-        if (kernels::Norm(normal) > 0.f) candidates.push_back(FacingPlane(kernels::Normalize(normal), points[v]));
+        if (kernels::Norm(normal) > 0.f) add_candidate(FacingPlane(kernels::Normalize(normal), points[v]));
         for (int g : incident[v]) {
           if (face_stamp[g] == stamp) continue;
           face_stamp[g] = stamp;
-          candidates.push_back(own[g]);
+          add_candidate(own[g]);
         }
       }
-      const size_t nc = candidates.size();
-      for (auto* column : {&nx, &ny, &nz, &d}) column->resize(nc);
-      for (size_t c = 0; c < nc; ++c) {
-        nx[c] = candidates[c].n.x;
-        ny[c] = candidates[c].n.y;
-        nz[c] = candidates[c].n.z;
-        d[c] = candidates[c].d;
-      }
+      const size_t nc = d.size();
       votes.assign(nc, 0.f);
       for (int j : voters) {
         const Vec3 ray = rays[j];
@@ -158,7 +157,7 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
           best_votes = votes[c];
         }
       }
-      chosen[f] = candidates[best];
+      chosen[f] = kernels::Plane{Vec3{nx[best], ny[best], nz[best]}, d[best]};
       changed[f] = best != 0;
     }
   });
