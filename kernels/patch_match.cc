@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "kernels/half_resolution.h"
+
 namespace mpmvs {
 namespace kernels {
 
@@ -11,6 +13,15 @@ void PatchMatchSchedule::Check() const {
   for (const IterationSpec& it : iterations) {
     if (it.window_scale < 0 || it.window_scale > 4) fail("window scale must be in [0, 4]");
     if (it.tau_index < 0) fail("tau index must be >= 0");
+  }
+  for (size_t i = 1; i < iterations.size(); ++i) {
+    if (iterations[i].half_resolution && !iterations[i - 1].half_resolution) {
+      fail("half-resolution iterations must come first");
+    }
+  }
+  if (iterations.front().half_resolution) {
+    if (geometric || use_prior) fail("half-resolution iterations are photometric only");
+    if (iterations.back().half_resolution) fail("half-resolution iterations need full-resolution ones after them");
   }
   if (geom_lambda < 0.f) fail("geometric weight must be >= 0");
   if (geometric && geom_error_clamp <= 0.f) fail("geometric clamp must be > 0");
@@ -45,6 +56,9 @@ PassParams MakePassParams(const PatchMatchProblem& problem, const PatchMatchSche
     for (const PatchMatchSource& s : problem.sources) {
       if (!s.depth_map) throw std::invalid_argument("geometric schedule without source depth maps");
     }
+  }
+  if (HasHalfResolutionIterations(schedule)) {
+    throw std::invalid_argument("a schedule with half-resolution iterations runs through RunWithHalfResolutionStart");
   }
   if (schedule.use_prior && (!problem.prior_plane || !problem.prior_label)) {
     throw std::invalid_argument("prior schedule without a planar prior");

@@ -54,6 +54,9 @@ struct PatchMatchProblem {
 struct IterationSpec {
   int window_scale = 0;
   int tau_index = 0;
+  // Runs on the images at half resolution (half_resolution.h): a prefix of a photometric
+  // schedule, run by RunWithHalfResolutionStart; window_scale is the scale used there.
+  bool half_resolution = false;
 };
 
 struct PatchMatchSchedule {

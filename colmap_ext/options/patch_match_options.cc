@@ -155,10 +155,10 @@ std::string OptionsMarkdown() {
 #undef MPMVS_IGNORED_ROW
   md << "\n## The method's options\n\n"
         "`--MPMVS.preset default|fast|paper` sets the defaults of all of them at once (the columns below:\n"
-        "`fast` runs 8 of the default's 21 iterations, `paper` is MP-MVS as published; empty: as the\n"
-        "default); options given explicitly override the preset. \"result\": the option changes\n"
-        "the maps, so it enters the fingerprint of every stage's state (a change recomputes) and two runs on\n"
-        "one workspace must agree on it.\n\n"
+        "`fast` runs 6 of the default's 21 iterations, the larger windows' at half resolution; `paper` is\n"
+        "MP-MVS as published; empty: as the default); options given explicitly override the preset.\n"
+        "\"result\": the option changes the maps, so it enters the fingerprint of every stage's state (a\n"
+        "change recomputes) and two runs on one workspace must agree on it.\n\n"
         "| option | default | fast | paper | range | effect | meaning |\n|---|---|---|---|---|---|---|\n";
   MpMvsOptions method;
   method.Visit([&](const OptionSpec& spec, const auto& value, const auto& presets) {

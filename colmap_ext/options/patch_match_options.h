@@ -74,16 +74,17 @@ namespace mpmvs {
   X(geom_consistency_regularizer, "use --MPMVS.geom_weight")                                                           \
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
-// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (8 iterations
-// of the default's 21, one prior round, settled pixels skip updates: docs/results.md) and
+// The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (6 iterations
+// of the default's 21, the larger windows' at half resolution, one prior round, settled
+// pixels skip updates: docs/results.md) and
 // `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
 // X(TYPE, NAME, DEFAULT, FAST, PAPER, RANGE, EFFECT, HELP)
 #define MPMVS_METHOD_OPTIONS(X)                                                                                        \
-  X(int, max_window_scale, 2, 1, 2, OptionRange::Closed(0, 4), kResult,                                                \
+  X(int, max_window_scale, 2, 2, 2, OptionRange::Closed(0, 4), kResult,                                                \
     "mPM: windows of 2^S*10+1 px for S = max..0 (41, 21, 11 px), 6x6 samples each; 0 = single 11 px window")           \
-  X(int, iterations_per_scale, 3, 2, 3, OptionRange::Closed(1, 100), kResult,                                          \
+  X(int, iterations_per_scale, 3, 1, 3, OptionRange::Closed(1, 100), kResult,                                          \
     "photometric iterations per window scale (tau restarts at each scale)")                                            \
   X(bool, distant_sampling, true, true, true, OptionRange::Any(), kResult,                                             \
     "1 = MP-MVS distant checkerboard sampling, 0 = ACMH's pattern")                                                    \
@@ -91,7 +92,7 @@ namespace mpmvs {
     OptionRange::OneOf("none|photometric|geometric"), kResult,                                                         \
     "geometric (MP-MVS), photometric (ACMP) or none")                                                                  \
   X(int, geom_iterations, 2, 1, 2, OptionRange::Closed(1, 100), kResult, "iterations of each geometric pass")          \
-  X(int, prior_iterations, 3, 2, 3, OptionRange::Closed(1, 100), kResult, "iterations of each prior-assisted run")     \
+  X(int, prior_iterations, 3, 1, 3, OptionRange::Closed(1, 100), kResult, "iterations of each prior-assisted run")     \
   X(int, prior_rounds, 2, 1, 1, OptionRange::Closed(1, 4), kResult,                                                    \
     "geometric prior: rounds of (planar prior from the last geometric pass, geometric pass); 1 = the paper")           \
   X(double, geom_weight, 0.2, 0.2, 0.2, OptionRange::Closed(0, 100), kResult, "lambda of the geometric term")          \
@@ -137,6 +138,10 @@ namespace mpmvs {
   X(int, costed_views, 0, 3, 0, OptionRange::Closed(0, 32), kResultWhenSet,                                            \
     "propagated candidates are costed in at most this many source views: those the pixel and its neighbours "          \
     "selected last, one more explored in turn; 0 = every source view (paper)")                                         \
+  X(int, half_resolution_scales, 0, 2, 0, OptionRange::Closed(0, 4), kResultWhenSet,                                 \
+    "mPM: the largest this many window scales (at most max_window_scale) run on the images at half resolution "      \
+    "with the window of one scale less, which covers the same part of the scene, at a quarter of the cost; "         \
+    "0 = all at full resolution (paper)")                                                                              \
   X(bool, overwrite, false, false, false, OptionRange::Any(), kRun, "recompute outputs that already exist")            \
   X(std::string, write_pictures, "final", "final", "final", OptionRange::OneOf("final|all|none"), kRun,              \
     "PNGs in stereo/mpmvs/pictures: final = the depth and normal maps fusion reads, all = also every stage's depth " \

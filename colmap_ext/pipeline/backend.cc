@@ -6,6 +6,7 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/thread_range.h"
+#include "kernels/half_resolution.h"
 
 namespace mpmvs {
 
@@ -47,35 +48,41 @@ void Backend::Run(const kernels::PatchMatchProblem& problem, const kernels::Patc
                   kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
                   const kernels::ProgressCallback& progress) {
   try {
-    if (cuda_) {
-      cuda_->Run(problem, schedule, result, next, progress);
-      MedianFilter(problem, result);
-    } else if (options_.cpu_side_work && next) {
-      RunCpuBesideSideWork(problem, schedule, result, next, progress);
-    } else {
-      kernels::RunPatchMatchCpu(problem, schedule, result, progress);
-      MedianFilter(problem, result);
+    if (!kernels::HasHalfResolutionIterations(schedule)) {
+      RunOnce(problem, schedule, result, next, progress, true);
+      return;
     }
+    // The half-resolution run is not median-filtered: mPM filters nothing between scales.
+    kernels::RunWithHalfResolutionStart(
+        problem, schedule,
+        [&](const kernels::PatchMatchProblem& p, const kernels::PatchMatchSchedule& s, kernels::PatchMatchResult* r,
+            const kernels::ProgressCallback& pr, bool last) { RunOnce(p, s, r, last ? next : nullptr, pr, last); },
+        result, progress);
   } catch (const kernels::ThreadStartError& e) {
     throw Error(std::string(e.what()) + "; lower --PatchMatchStereo.num_threads");
   }
 }
 
-void Backend::MedianFilter(const kernels::PatchMatchProblem& problem, kernels::PatchMatchResult* result) const {
-  kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max, options_.num_threads,
-                                 result);
-}
-
-void Backend::RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem,
-                                   const kernels::PatchMatchSchedule& schedule, kernels::PatchMatchResult* result,
-                                   const kernels::NextProblemCallback& side_work,
-                                   const kernels::ProgressCallback& progress) const {
-  // Without a thread to spare the side work runs first, as without overlap.
-  RunBeside([&] { side_work(); },
-            [&] {
-              kernels::RunPatchMatchCpu(problem, schedule, result, progress);
-              MedianFilter(problem, result);
-            });
+void Backend::RunOnce(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
+                      kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
+                      const kernels::ProgressCallback& progress, bool median_filter) {
+  const auto compute = [&] {
+    if (cuda_) {
+      cuda_->Run(problem, schedule, result, next, progress);
+    } else {
+      kernels::RunPatchMatchCpu(problem, schedule, result, progress);
+    }
+    if (median_filter) {
+      kernels::MedianFilterDepthsCpu(problem.ref_camera, problem.depth_min, problem.depth_max, options_.num_threads,
+                                     result);
+    }
+  };
+  if (!cuda_ && options_.cpu_side_work && next) {
+    // Without a thread to spare the side work runs first, as without overlap.
+    RunBeside([&] { next(); }, compute);
+  } else {
+    compute();
+  }
 }
 
 void Backend::LogCacheStats() const {

@@ -26,6 +26,8 @@ class Backend {
   // median-filtered, as the reference pipeline does after every run (docs/algorithm.md
   // §9.1); later stages, the planar prior and the outputs all see the filtered result.
   // progress: after each iteration, (done, total), on the thread that runs the passes.
+  // A schedule that starts at half resolution (--MPMVS.half_resolution_scales) runs as two
+  // runs on the same backend (kernels/half_resolution.h); next goes with the second.
   void Run(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
            kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
            const kernels::ProgressCallback& progress = nullptr);
@@ -34,10 +36,10 @@ class Backend {
   void LogCacheStats() const;
 
  private:
-  void MedianFilter(const kernels::PatchMatchProblem& problem, kernels::PatchMatchResult* result) const;
-  void RunCpuBesideSideWork(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
-                            kernels::PatchMatchResult* result, const kernels::NextProblemCallback& side_work,
-                            const kernels::ProgressCallback& progress) const;
+  // One backend run; next: as Run's (nullptr: none).
+  void RunOnce(const kernels::PatchMatchProblem& problem, const kernels::PatchMatchSchedule& schedule,
+               kernels::PatchMatchResult* result, const kernels::NextProblemCallback& next,
+               const kernels::ProgressCallback& progress, bool median_filter);
 
   BackendOptions options_;
   std::unique_ptr<kernels::CudaSession> cuda_;

@@ -25,6 +25,7 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
+#include "kernels/half_resolution.h"
 
 namespace mpmvs {
 namespace {
@@ -231,7 +232,7 @@ void Controller::Start(MpPatchMatchSummary* summary) {
   double units = 0;
   for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
     if (plan_.only_stage >= 0 && plan_.only_stage != static_cast<int>(s)) continue;
-    const int iterations = static_cast<int>(plan_.pipeline.stages[s].schedule.iterations.size());
+    const double iterations = kernels::IterationWork(plan_.pipeline.stages[s].schedule);
     for (size_t i : mine_) {
       const DenseView& view = workspace_.views[problems_[i].ref];
       units += RunEta::Units(view.width, view.height, iterations);
@@ -429,7 +430,7 @@ void Controller::FinishReference(int stage_index, const StageReference& ref, ker
 void Controller::ReportDone(int stage_index, int view, const std::string& detail, bool computed,
                             ProgressReporter* progress) {
   const DenseView& v = workspace_.views[view];
-  eta_->Done(RunEta::Units(v.width, v.height, static_cast<int>(plan_.pipeline.stages[stage_index].schedule.iterations.size())),
+  eta_->Done(RunEta::Units(v.width, v.height, kernels::IterationWork(plan_.pipeline.stages[stage_index].schedule)),
              computed);
   const double left = eta_->SecondsLeft();
   progress->Step(v.name + detail, left < 0 ? "" : ", run ETA " + FormatDuration(left));

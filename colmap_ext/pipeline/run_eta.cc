@@ -6,8 +6,8 @@ namespace mpmvs {
 
 RunEta::RunEta(double total_units) : total_units_(total_units), start_(std::chrono::steady_clock::now()) {}
 
-double RunEta::Units(int width, int height, int iterations) {
-  return static_cast<double>(width) * height * std::max(1, iterations);
+double RunEta::Units(int width, int height, double iterations) {
+  return static_cast<double>(width) * height * std::max(1.0, iterations);
 }
 
 void RunEta::Done(double units, bool computed) {

@@ -12,8 +12,9 @@ class RunEta {
  public:
   explicit RunEta(double total_units);
 
-  // Work units of one image in a stage.
-  static double Units(int width, int height, int iterations);
+  // Work units of one image in a stage; iterations: full-resolution ones, a half-resolution
+  // one counting a quarter (at least one in all).
+  static double Units(int width, int height, double iterations);
 
   // One (image, stage) handled; computed: its work took time (else resumed or skipped).
   void Done(double units, bool computed);

@@ -1,5 +1,7 @@
 #include "colmap_ext/plan/stage_plan.h"
 
+#include <algorithm>
+
 namespace mpmvs {
 
 bool BuildsOnPrior(const PipelinePlan& pipeline, int k) {
@@ -43,9 +45,15 @@ PipelinePlan MakePipelinePlan(const PatchMatchStereoOptions& colmap_options,
   photometric.name = "photometric";
   photometric.kind = StageKind::kPhotometric;
   photometric.schedule = base;
-  // mPM: largest window first, tau restarting at every scale.
+  // mPM: largest window first, tau restarting at every scale. The largest
+  // half_resolution_scales scales (at most all but the finest) run at half resolution with
+  // the window of one scale less, which covers the same part of the scene.
+  const int half_scales = std::min(options.half_resolution_scales, options.max_window_scale);
   for (int s = options.max_window_scale; s >= 0; --s) {
-    for (int t = 0; t < options.iterations_per_scale; ++t) photometric.schedule.iterations.push_back({s, t});
+    const bool half = s > options.max_window_scale - half_scales;
+    for (int t = 0; t < options.iterations_per_scale; ++t) {
+      photometric.schedule.iterations.push_back({half ? s - 1 : s, t, half});
+    }
   }
   plan.stages.push_back(photometric);
 

@@ -7,6 +7,7 @@
 #include "colmap_ext/plan/kernel_camera.h"
 #include "colmap_ext/prior/epipolar_texture.h"
 #include "colmap_ext/util/logging.h"
+#include "kernels/half_resolution.h"
 
 namespace mpmvs {
 namespace {
@@ -123,7 +124,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   const bool adaptive = kernels::TextureAdaptivePrior(problem.ref_noise_variance, stage.schedule.prior_beta);
   if (adaptive) {
     constexpr int kVertexTextureScale = 1;
-    const int coarsest = plan.pipeline.stages.front().schedule.iterations.front().window_scale;
+    const int coarsest = kernels::FirstFullResolutionScale(plan.pipeline.stages.front().schedule);
     // Of the grey image: colour edges split the bilateral window, yet are texture.
     excluded = *store->PlainWindows(p.ref, std::min(kVertexTextureScale, coarsest));
   }

@@ -133,16 +133,21 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(iterations, 21);
   EXPECT_EQ(StateOptionsText(Parse({"--MPMVS.preset", "default"})), StateOptionsText(MpMvsOptions{}));
 
-  // fast: one window scale fewer, fewer iterations per stage, one prior round, settled pixels
-  // skip two updates, the candidates costed in three views.
+  // fast: one iteration per window scale, the two larger windows at half resolution, fewer
+  // iterations per stage, one prior round, settled pixels skip two updates, the candidates
+  // costed in three views.
   const MpMvsOptions fast = Parse({"--MPMVS.preset", "fast"}, &colmap);
   EXPECT_EQ(StageNames(MakePipelinePlan(colmap, fast), &iterations),
             (std::vector<std::string>{"photometric", "geometric1", "prior", "geometric2", "depth_check"}));
-  EXPECT_EQ(iterations, 8);
+  EXPECT_EQ(iterations, 6);
   EXPECT_EQ(fast.prior_rounds, 1);
+  EXPECT_EQ(fast.iterations_per_scale, 1);
+  EXPECT_EQ(fast.prior_iterations, 1);
   EXPECT_EQ(fast.settled_pixel_skips, 2);
   EXPECT_EQ(fast.costed_views, 3);
-  EXPECT_EQ(fast.max_window_scale, 1);
+  EXPECT_EQ(fast.max_window_scale, 2);
+  EXPECT_EQ(fast.half_resolution_scales, 2);
+  EXPECT_EQ(MpMvsOptions().half_resolution_scales, 0);
   EXPECT_EQ(fast.chroma_weight, MpMvsOptions().chroma_weight);
 
   // Explicit options win over the preset, before or after it on the command line.

@@ -53,6 +53,38 @@ TEST(StagePlan, EachPriorRoundBuildsOnThePreviousGeometricPass) {
   EXPECT_EQ(Chain(MakePipelinePlan(colmap, options)), "photometric<-");
 }
 
+// The photometric schedule: iterations (scale, tau index, at half resolution) as written.
+std::string PhotometricIterations(const MpMvsOptions& options) {
+  const PipelinePlan plan = MakePipelinePlan(PatchMatchStereoOptions(), options);
+  std::string text;
+  for (const kernels::IterationSpec& it : plan.stages[0].schedule.iterations) {
+    text += (text.empty() ? "" : " ") + std::to_string(it.window_scale) + std::to_string(it.tau_index) +
+            (it.half_resolution ? "h" : "");
+  }
+  return text;
+}
+
+TEST(StagePlan, TheLargestWindowScalesRunAtHalfResolutionWithOneScaleLess) {
+  MpMvsOptions options;
+  options.iterations_per_scale = 2;
+  EXPECT_EQ(PhotometricIterations(options), "20 21 10 11 00 01");  // the paper's mPM
+  options.half_resolution_scales = 1;
+  EXPECT_EQ(PhotometricIterations(options), "10h 11h 10 11 00 01");
+  options.half_resolution_scales = 2;
+  EXPECT_EQ(PhotometricIterations(options), "10h 11h 00h 01h 00 01");
+  options.half_resolution_scales = 4;  // never the finest scale
+  EXPECT_EQ(PhotometricIterations(options), "10h 11h 00h 01h 00 01");
+  options.max_window_scale = 0;
+  EXPECT_EQ(PhotometricIterations(options), "00 01");
+  // Only the photometric stage: the later ones start from full-resolution maps.
+  options.max_window_scale = 2;
+  const PipelinePlan plan = MakePipelinePlan(PatchMatchStereoOptions(), options);
+  for (const StagePlan& stage : plan.stages) {
+    if (stage.kind == StageKind::kPhotometric) continue;
+    for (const kernels::IterationSpec& it : stage.schedule.iterations) EXPECT_FALSE(it.half_resolution) << stage.name;
+  }
+}
+
 TEST(StagePlan, OnlyTheFirstPriorRoundBuildsOnAnEstimateWithoutPrior) {
   MpMvsOptions options;
   const PipelinePlan plan = MakePipelinePlan(PatchMatchStereoOptions(), options);
