@@ -161,6 +161,7 @@ void RunWithHalfResolutionStart(const PatchMatchProblem& problem, const PatchMat
       progress ? ProgressCallback([&](int done, int) { progress(num_coarse + done, total); }) : ProgressCallback(),
       true);
   result->init_ncc_evaluations += half_result.init_ncc_evaluations;
+  for (IterationStats& stats : half_result.iterations) stats.half_resolution = true;
   result->iterations.insert(result->iterations.begin(), half_result.iterations.begin(), half_result.iterations.end());
 }
 

@@ -94,6 +94,9 @@ struct PatchMatchSchedule {
 struct IterationStats {
   int window_scale = 0;
   int window_side = 0;
+  // Ran on the images at half resolution (kernels/half_resolution.h): window_scale and
+  // window_side count half-resolution pixels, and the window covers the one of scale + 1.
+  bool half_resolution = false;
   PatternKind pattern = PatternKind::kDistant;
   float tau = 0.f;
   uint64_t ncc_evaluations = 0;  // view x hypothesis NCCs computed (36 samples each)

@@ -28,7 +28,7 @@ void AddPatchMatchOptions(OptionParser* parser, PatchMatchStereoOptions* c, MpMv
   // The preset's values are set after parsing, for the options not given explicitly.
   auto preset = std::make_shared<std::string>("default");
   parser->Add(q + "preset", preset.get(),
-              std::string("defaults of all --MPMVS options: default, fast (8 of the 21 iterations) or "
+              std::string("defaults of all --MPMVS options: default, fast (6 of the 21 iterations) or "
                           "paper (MP-MVS as published; docs/options.md); options given explicitly override it [" +
                   PresetNames() + "]"));
   m->Visit([&](const OptionSpec& spec, auto& field, const auto&) {

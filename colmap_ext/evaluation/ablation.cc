@@ -11,6 +11,7 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
+#include "kernels/ncc.h"
 
 namespace mpmvs {
 
@@ -138,12 +139,17 @@ std::string FormatAblationTable(const std::vector<AblationRowResult>& rows) {
       }
       return std::string(buf);
     };
+    // The windows' sides in full-resolution pixels (a half-resolution window covers the one of
+    // the next scale), "h" where the images ran at half resolution.
     std::string windows, pattern;
     if (!r.summary.stages.empty()) {
-      int last = -1;
+      std::string last;
       for (const kernels::IterationStats& it : r.summary.stages.front().iterations) {
-        if (it.window_side != last) windows += (windows.empty() ? "" : "/") + std::to_string(it.window_side);
-        last = it.window_side;
+        const int scale = it.window_scale + (it.half_resolution ? 1 : 0);
+        const std::string side =
+            std::to_string(kernels::WindowSide(kernels::WindowForScale(scale))) + (it.half_resolution ? "h" : "");
+        if (side != last) windows += (windows.empty() ? "" : "/") + side;
+        last = side;
         pattern = PatternName(it.pattern);
       }
     }

@@ -53,8 +53,9 @@ struct OptionRange {
 // What a value of the option affects.
 enum class OptionEffect {
   kResult,         // the maps: enters the state fingerprint and the concurrent-run check
-  kResultWhenSet,  // as kResult, but enters the fingerprint only away from its default, so
-                   // states written before the option existed stay valid
+  kResultWhenSet,  // as kResult, but enters the fingerprint only away from its paper value
+                   // (the method as it ran before the option existed), so states written
+                   // before the option existed stay valid, whatever the default is now
   kInput,          // as kResult, through what it selects: the images' size, the depth range
                    // or the sources, which each state's and map's inputs hash holds already;
                    // it enters the run's fingerprint (store/result_fingerprint.h) only

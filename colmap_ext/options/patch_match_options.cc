@@ -107,7 +107,7 @@ std::string ResultOptionsText(const MpMvsOptions& options) {
   s.precision(17);
   options.Visit([&](const OptionSpec& spec, const auto& value, const auto& presets) {
     if (spec.effect == OptionEffect::kRun) return;
-    if (spec.effect == OptionEffect::kResultWhenSet && value == presets.default_value()) return;
+    if (spec.effect == OptionEffect::kResultWhenSet && value == presets.paper_value()) return;
     s << spec.name << " " << value << "\n";
   });
   return s.str();
@@ -155,8 +155,8 @@ std::string OptionsMarkdown() {
 #undef MPMVS_IGNORED_ROW
   md << "\n## The method's options\n\n"
         "`--MPMVS.preset default|fast|paper` sets the defaults of all of them at once (the columns below:\n"
-        "`fast` runs 6 of the default's 21 iterations, the larger windows' at half resolution; `paper` is\n"
-        "MP-MVS as published; empty: as the default); options given explicitly override the preset.\n"
+        "`fast` runs 6 of the default's 21 iterations; `paper` is MP-MVS as published, every window at full\n"
+        "resolution; empty: as the default); options given explicitly override the preset.\n"
         "\"result\": the option changes the maps, so it enters the fingerprint of every stage's state (a\n"
         "change recomputes) and two runs on one workspace must agree on it.\n\n"
         "| option | default | fast | paper | range | effect | meaning |\n|---|---|---|---|---|---|---|\n";

@@ -75,8 +75,7 @@ namespace mpmvs {
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
 // The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (6 iterations
-// of the default's 21, the larger windows' at half resolution, one prior round, settled
-// pixels skip updates: docs/results.md) and
+// of the default's 21, one prior round, settled pixels skip updates: docs/results.md) and
 // `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
@@ -138,7 +137,7 @@ namespace mpmvs {
   X(int, costed_views, 0, 3, 0, OptionRange::Closed(0, 32), kResultWhenSet,                                            \
     "propagated candidates are costed in at most this many source views: those the pixel and its neighbours "          \
     "selected last, one more explored in turn; 0 = every source view (paper)")                                         \
-  X(int, half_resolution_scales, 0, 2, 0, OptionRange::Closed(0, 4), kResultWhenSet,                                 \
+  X(int, half_resolution_scales, 2, 2, 0, OptionRange::Closed(0, 4), kResultWhenSet,                                 \
     "mPM: the largest this many window scales (at most max_window_scale) run on the images at half resolution "      \
     "with the window of one scale less, which covers the same part of the scene, at a quarter of the cost; "         \
     "0 = all at full resolution (paper)")                                                                              \
@@ -206,11 +205,13 @@ enum class PlanarPriorMode { kNone, kPhotometric, kGeometric };
 // Presets: named sets of --MPMVS values, in this order (OptionPresets::values).
 constexpr const char* kPresetNames[] = {"default", "fast", "paper"};
 constexpr int kNumPresets = 3;
+constexpr int kPaperPreset = 2;  // MP-MVS as published
 template <typename T>
 struct OptionPresets {
   T values[kNumPresets];
   const T& at(int preset) const { return values[preset]; }
   const T& default_value() const { return values[0]; }
+  const T& paper_value() const { return values[kPaperPreset]; }
 };
 
 struct MpMvsOptions : VisitableOptions<MpMvsOptions> {
@@ -244,7 +245,7 @@ bool ApplyPreset(const std::string& preset, const std::function<bool(const std::
 int SeedForRandomSeed(int random_seed);
 
 // The values of the options that change results, one "name value" line each in declaration
-// order (doubles with 17 digits; kResultWhenSet options only away from their default): the
+// order (doubles with 17 digits; kResultWhenSet options only away from their paper value): the
 // options part of the state fingerprint (store/state_record.h).
 std::string ResultOptionsText(const MpMvsOptions& options);
 // The values of COLMAP's options that change results, one "PatchMatchStereo.name value" line

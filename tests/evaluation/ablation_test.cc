@@ -30,7 +30,8 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
     std::vector<std::string> stages;
   };
   const std::vector<int> single(3, 11);
-  const std::vector<int> multi = {41, 41, 41, 21, 21, 21, 11, 11, 11};
+  // The default runs the 41 and 21 px windows as the 21 and 11 px ones at half resolution.
+  const std::vector<int> multi = {21, 21, 21, 11, 11, 11, 11, 11, 11};
   const std::vector<std::string> plain = {"photometric", "geometric1", "geometric2", "depth_check"};
   const std::vector<std::string> pp = {"photometric", "prior", "geometric1", "geometric2", "depth_check"};
   // Default prior_rounds 2: a second prior from geometric2, then geometric3.
@@ -50,11 +51,14 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
     for (const StageSummary& s : rows[r].summary.stages) stages.push_back(s.name);
     EXPECT_EQ(stages, expected[r].stages);
     std::vector<int> sides;
+    int half = 0;
     for (const kernels::IterationStats& it : rows[r].summary.stages[0].iterations) {
       sides.push_back(it.window_side);
+      half += it.half_resolution;
       EXPECT_EQ(it.pattern, expected[r].pattern);
     }
     EXPECT_EQ(sides, expected[r].sides);
+    EXPECT_EQ(half, r == 0 ? 0 : 6);
     // Later stages run the 11 px window with the row's pattern.
     for (size_t s = 1; s < rows[r].summary.stages.size(); ++s) {
       for (const kernels::IterationStats& it : rows[r].summary.stages[s].iterations) {
@@ -68,7 +72,8 @@ TEST(Ablation, RowsRunWhatTheirNamesSay) {
   }
   const std::string table = FormatAblationTable(rows);
   EXPECT_NE(table.find("mPM+rs+gp"), std::string::npos);
-  EXPECT_NE(table.find("41/21/11"), std::string::npos);
+  EXPECT_NE(table.find("windows 41h/21h/11 px"), std::string::npos) << table;
+  EXPECT_NE(table.find("windows 11 px"), std::string::npos) << table;
   EXPECT_NE(table.find("untextured 1%: acc comp F1"), std::string::npos);
 
   // ablation.json: each row with its name, the options that change its results, its run time.

@@ -161,6 +161,8 @@ TEST(HalfResolution, StartAtHalfResolutionRecoversThePlaneForLessWork) {
   EXPECT_EQ(half_runs, 1);
   ASSERT_EQ(half_result.width, 160);
   ASSERT_EQ(half_result.iterations.size(), 4u);
+  // The run statistics say which iterations ran at half resolution.
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(half_result.iterations[i].half_resolution, i < 2) << i;
 
   const double full_good = DepthWithinHalfPercent(scene, problem, full_result);
   const double half_good = DepthWithinHalfPercent(scene, problem, half_result);

@@ -24,10 +24,14 @@ namespace mpmvs {
 namespace {
 
 // The fingerprint text must stay byte-identical to what builds before the declarations wrote
-// (those texts, printed by the earlier StateOptionsText): otherwise every state on disk would
-// be recomputed.
+// (those texts, printed by the earlier StateOptionsText) for the options they ran: otherwise
+// every state on disk would be recomputed. A speed option (kResultWhenSet) enters it only away
+// from its paper value, whatever the default is, so that a default which now changes the maps
+// recomputes them.
 TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
-  EXPECT_EQ(StateOptionsText(MpMvsOptions{}),
+  MpMvsOptions earlier;
+  earlier.half_resolution_scales = 0;  // the default before 5 Dec 2026
+  EXPECT_EQ(StateOptionsText(earlier),
       "math_revision 7\n"
       "max_window_scale 2\n"
       "iterations_per_scale 3\n"
@@ -53,7 +57,10 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
       "chroma_weight 8\n"
       "max_source_images 20\n"
       "seed 1\n");
+  // Today's default runs the larger windows at half resolution: its states are not those.
+  EXPECT_EQ(StateOptionsText(MpMvsOptions{}), StateOptionsText(earlier) + "half_resolution_scales 2\n");
   MpMvsOptions b;
+  b.half_resolution_scales = 0;
   b.settled_pixel_skips = 2;
   b.prior_beta = 0.18;
   b.planar_prior = "photometric";
@@ -147,7 +154,8 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(fast.costed_views, 3);
   EXPECT_EQ(fast.max_window_scale, 2);
   EXPECT_EQ(fast.half_resolution_scales, 2);
-  EXPECT_EQ(MpMvsOptions().half_resolution_scales, 0);
+  EXPECT_EQ(MpMvsOptions().half_resolution_scales, 2);
+  EXPECT_EQ(paper.half_resolution_scales, 0);
   EXPECT_EQ(fast.chroma_weight, MpMvsOptions().chroma_weight);
 
   // Explicit options win over the preset, before or after it on the command line.

@@ -67,6 +67,7 @@ std::string PhotometricIterations(const MpMvsOptions& options) {
 TEST(StagePlan, TheLargestWindowScalesRunAtHalfResolutionWithOneScaleLess) {
   MpMvsOptions options;
   options.iterations_per_scale = 2;
+  options.half_resolution_scales = 0;
   EXPECT_EQ(PhotometricIterations(options), "20 21 10 11 00 01");  // the paper's mPM
   options.half_resolution_scales = 1;
   EXPECT_EQ(PhotometricIterations(options), "10h 11h 10 11 00 01");
