@@ -126,14 +126,16 @@ bool FileMatches(const std::string& path, const MapsRecord::File& file) {
 
 std::string ChangedOptions(const std::string& before, const std::string& now) {
   const std::map<std::string, std::string> a = OptionValues(before), b = OptionValues(now);
+  // An option missing from a text is a speed option at its paper value (options/option_spec.h).
+  const std::string absent = "(the paper's value)";
   std::string changed;
   for (const auto& [name, value] : b) {
     const auto it = a.find(name);
-    const std::string old_value = it == a.end() ? "(default)" : it->second;
+    const std::string old_value = it == a.end() ? absent : it->second;
     if (old_value != value) changed += (changed.empty() ? "" : ", ") + name + " " + old_value + " -> " + value;
   }
   for (const auto& [name, value] : a) {
-    if (!b.count(name)) changed += (changed.empty() ? "" : ", ") + name + " " + value + " -> (default)";
+    if (!b.count(name)) changed += (changed.empty() ? "" : ", ") + name + " " + value + " -> " + absent;
   }
   return changed;
 }

@@ -96,6 +96,30 @@ TEST(StaleOutputs, TruncatedFinalMapWithoutIntermediatesIsMovedAsideAndRecompute
   EXPECT_EQ(again.summary.num_already_done, 3);
 }
 
+// Maps of the default before half_resolution_scales became 2 (a speed option at its paper
+// value leaves no line in the fingerprint) are recomputed, and the log names the change.
+TEST(StaleOutputs, MapsOfTheFormerFullResolutionDefaultAreRecomputed) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
+  MpPatchMatchRun run = SmallRun(tmp.path());
+  run.options.half_resolution_scales = 0;
+  ASSERT_EQ(RunCaptured(run).error, "");
+
+  run.options.half_resolution_scales = MpMvsOptions().half_resolution_scales;
+  ASSERT_GT(run.options.half_resolution_scales, 0);
+  const CapturedRun r = RunCaptured(run);
+  ASSERT_EQ(r.error, "") << r.log;
+  EXPECT_EQ(r.summary.num_written, 3) << r.log;
+  EXPECT_TRUE(Contains(r.log, "half_resolution_scales (the paper's value) -> " +
+                                  std::to_string(run.options.half_resolution_scales)))
+      << r.log;
+
+  run.options.half_resolution_scales = 0;
+  const CapturedRun back = RunCaptured(run);
+  EXPECT_EQ(back.summary.num_written, 3) << back.log;
+  EXPECT_TRUE(Contains(back.log, "-> (the paper's value)")) << back.log;
+}
+
 TEST(StaleOutputs, MapsOfAnotherImageSizeAreNotKept) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp.path(), 64, 48, 3);
