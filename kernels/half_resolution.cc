@@ -126,7 +126,7 @@ double IterationWork(const PatchMatchSchedule& schedule) {
 int FirstFullResolutionScale(const PatchMatchSchedule& schedule) {
   if (schedule.iterations.empty()) return 0;
   const IterationSpec& first = schedule.iterations.front();
-  return first.window_scale + (first.half_resolution ? 1 : 0);
+  return FullResolutionScale(first.window_scale, first.half_resolution);
 }
 
 void RunWithHalfResolutionStart(const PatchMatchProblem& problem, const PatchMatchSchedule& schedule,

@@ -46,8 +46,12 @@ void UpsampleHalfResolutionResult(const PatchMatchResult& half, int width, int h
 bool HasHalfResolutionIterations(const PatchMatchSchedule& schedule);
 // The schedule's iterations weighed by their pixels: a half-resolution one counts a quarter.
 double IterationWork(const PatchMatchSchedule& schedule);
-// The window scale of the schedule's first iteration as seen at full resolution (a
-// half-resolution iteration's scale plus one): the run's largest window.
+// The window scale an iteration's window covers at full resolution: a half-resolution
+// iteration's scale plus one.
+inline int FullResolutionScale(int window_scale, bool half_resolution) {
+  return window_scale + (half_resolution ? 1 : 0);
+}
+// FullResolutionScale of the schedule's first iteration: the run's largest window.
 int FirstFullResolutionScale(const PatchMatchSchedule& schedule);
 
 // Runs `problem` on one backend: `median_filter` says whether to median-filter the result

@@ -11,6 +11,7 @@
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
 #include "colmap_ext/util/logging.h"
+#include "kernels/half_resolution.h"
 #include "kernels/ncc.h"
 
 namespace mpmvs {
@@ -145,7 +146,7 @@ std::string FormatAblationTable(const std::vector<AblationRowResult>& rows) {
     if (!r.summary.stages.empty()) {
       std::string last;
       for (const kernels::IterationStats& it : r.summary.stages.front().iterations) {
-        const int scale = it.window_scale + (it.half_resolution ? 1 : 0);
+        const int scale = kernels::FullResolutionScale(it.window_scale, it.half_resolution);
         const std::string side =
             std::to_string(kernels::WindowSide(kernels::WindowForScale(scale))) + (it.half_resolution ? "h" : "");
         if (side != last) windows += (windows.empty() ? "" : "/") + side;
