@@ -107,16 +107,9 @@ std::vector<std::vector<char>> NeededStageResults(const RunPlan& plan, const std
   return needed;
 }
 
-int RemoveUnneededStates(const RunPlan& plan, const std::vector<ReferenceProblem>& problems,
-                         const StageInputs& inputs, StageStore* store) {
-  const std::vector<std::vector<char>> needed = NeededStageResults(plan, problems, inputs, store);
-  int removed = 0;
-  for (size_t i = 0; i < problems.size(); ++i) {
-    for (size_t s = 0; s < plan.pipeline.stages.size(); ++s) {
-      if (!needed[i][s]) removed += store->RemoveState(problems[i].ref, plan.pipeline.stages[s].name);
-    }
-  }
-  return removed;
+bool StageResultNeeded(const RunPlan& plan, const std::vector<ReferenceProblem>& problems, const StageInputs& inputs,
+                       StageStore* store, int stage, size_t problem) {
+  return Needs(plan, problems, inputs, store).Needed(stage, problem);
 }
 
 }  // namespace mpmvs

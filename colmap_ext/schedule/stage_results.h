@@ -21,6 +21,11 @@ namespace mpmvs {
 std::vector<std::vector<char>> NeededStageResults(const RunPlan& plan, const std::vector<ReferenceProblem>& problems,
                                                   const StageInputs& inputs, StageStore* store);
 
+// Whether the result of stage `stage` of problems[problem] is needed: one entry of
+// NeededStageResults, judging only the results it depends on.
+bool StageResultNeeded(const RunPlan& plan, const std::vector<ReferenceProblem>& problems, const StageInputs& inputs,
+                       StageStore* store, int stage, size_t problem);
+
 // "geometric" or "photometric" when stage `stage` writes those maps, else "".
 std::string StageMapType(const PipelinePlan& pipeline, int stage);
 
@@ -28,10 +33,5 @@ std::string StageMapType(const PipelinePlan& pipeline, int stage);
 // inputs even when its result is resumed: the output filter and the consistency graph read
 // the sources' results of the input stage.
 bool WritesMapsFromInputs(const RunPlan& plan, int stage);
-
-// Removes the state files of every result of the run that is no longer needed (a fresh
-// NeededStageResults); returns how many states went.
-int RemoveUnneededStates(const RunPlan& plan, const std::vector<ReferenceProblem>& problems,
-                         const StageInputs& inputs, StageStore* store);
 
 }  // namespace mpmvs

@@ -143,14 +143,30 @@ const kernels::PatchMatchProblem* StageScheduler::LookAhead() {
   return ahead_ && ahead_->action == StageReference::Action::kCompute ? &ahead_->pm : nullptr;
 }
 
-void StageScheduler::Release(const StageReference& ref) { claims_->Release(ClaimKey(ref.problem->ref)); }
+void StageScheduler::Release(const StageReference& ref) { claims_->Release(ClaimKey(ref.problem->ref, stage_)); }
 
 int StageScheduler::RemoveUnneededStates() {
-  return mpmvs::RemoveUnneededStates(plan_, problems_, inputs_, store_);
+  const std::vector<std::vector<char>> needed = NeededStageResults(plan_, problems_, inputs_, store_);
+  int removed = 0;
+  for (size_t i = 0; i < problems_.size(); ++i) {
+    for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
+      const int view = problems_[i].ref;
+      const std::string& name = plan_.pipeline.stages[s].name;
+      if (needed[i][s] || !store_->HasState(view, name)) continue;
+      // A process that claimed this result after judging it needed may be reading it: its
+      // claim keeps the state (it goes at a later removal).
+      const std::string key = ClaimKey(view, static_cast<int>(s));
+      const bool ours = claims_->Holds(key);
+      if (!ours && claims_->TryClaim(key) == WorkClaims::Result::kHeld) continue;
+      removed += store_->RemoveState(view, name);
+      if (!ours) claims_->Release(key);
+    }
+  }
+  return removed;
 }
 
-std::string StageScheduler::ClaimKey(int view) const {
-  return workspace_.views[view].name + "." + plan_.pipeline.stages[stage_].name;
+std::string StageScheduler::ClaimKey(int view, int stage) const {
+  return workspace_.views[view].name + "." + plan_.pipeline.stages[stage].name;
 }
 
 void StageScheduler::AwaitInputs() {
@@ -236,7 +252,7 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
     ClaimHolder holder;
     bool told = false;
     std::unique_ptr<InterruptibleWait> interruptible;
-    while (claims_->TryClaim(ClaimKey(p.ref), &holder) == WorkClaims::Result::kHeld) {
+    while (claims_->TryClaim(ClaimKey(p.ref, stage_), &holder) == WorkClaims::Result::kHeld) {
       if (!wait) {
         LogInfo(name + ": stage " + stage + " is being run by " + holder.Describe() + "; doing other images first");
         return nullptr;
@@ -247,6 +263,11 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
       interruptible->ThrowIfInterrupted("waiting for " + holder.Describe() + " to finish stage " + stage + " of " + name);
     }
+    // What was judged before may be out of date: another process of the run may have
+    // finished this image meanwhile (its final maps are then whole) and removed the states
+    // that no stage reads any more. Judged again now that the claim keeps them.
+    done_[i] = !plan_.overwrite && store_->AllFinalOutputsExist(p.ref);
+    needed_[i][stage_] = StageResultNeeded(plan_, problems_, inputs_, store_, stage_, i);
   }
   return PrepareStageReference(plan_, workspace_, store_, stage_, p, done_[i], needed_[i][stage_]);
 }

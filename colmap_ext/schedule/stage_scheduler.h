@@ -61,8 +61,8 @@ class StageScheduler {
   const kernels::PatchMatchProblem* LookAhead();
   // Releases the claim on ref's image in this stage (a no-op when none was taken).
   void Release(const StageReference& ref);
-  // Removes the states of every image of the run that no stage reads again (stage_results.h);
-  // returns how many.
+  // Removes the states of every image of the run that no stage reads again (stage_results.h),
+  // except those another process holds the claim of (it may be reading them); returns how many.
   int RemoveUnneededStates();
 
  private:
@@ -71,7 +71,7 @@ class StageScheduler {
   // Claims and prepares this process's k-th image; nullptr when another live process holds
   // it and wait is false.
   std::unique_ptr<StageReference> ClaimAndPrepare(size_t k, bool wait);
-  std::string ClaimKey(int view) const;
+  std::string ClaimKey(int view, int stage) const;
 
   const RunPlan& plan_;
   const DenseWorkspace& workspace_;
@@ -80,9 +80,11 @@ class StageScheduler {
   std::vector<size_t> mine_;
   std::unique_ptr<WorkClaims> claims_;
   StageInputs inputs_;
-  std::vector<char> done_;                 // [problem] final maps whole at the start (kept)
-  // [problem][stage], at the start and again while a stage waits for other processes, which
-  // may meanwhile have finished this run's images and removed the states they read.
+  // [problem] final maps whole (kept): at the start, and again when the image is claimed.
+  std::vector<char> done_;
+  // [problem][stage], at the start, again while a stage waits for other processes (which
+  // may meanwhile have finished this run's images and removed the states they read), and
+  // for the image and stage when it is claimed.
   std::vector<std::vector<char>> needed_;  // (stage_results.h)
 
   // The stage under way.

@@ -96,6 +96,54 @@ TEST_F(ConcurrentRuns, TwoRunsAtOnceWriteTheMapsOfOne) {
   EXPECT_EQ(left, 0);
 }
 
+// A run that waited for another run's image found, once it had the claim, that the other run
+// had meanwhile finished every image and removed the states no stage reads any more (here this
+// test plays that run: it writes the final maps of a whole run and removes the states). The
+// waiting run judges the image again from the disk: it keeps those maps and reads no state.
+// Before, it prepared the image from what it had judged before waiting and stopped with
+// "file does not exist" (or computed from results that were gone).
+TEST_F(ConcurrentRuns, ResultsFinishedByTheRunWaitedForAreKeptNotRead) {
+  WorkClaims other(Claims(), 600);
+  ASSERT_EQ(other.TryClaim(first_image_ + ".prior2"), WorkClaims::Result::kClaimed);
+  int rc = -1;
+  std::thread run([&] { rc = test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "shared.log"); });
+  const bool waited = WaitForText(tmp_ / "shared.log", "to finish stage prior2");
+  const std::string one = tmp_ / "one/stereo", shared = tmp_ / "shared/stereo";
+  test::RunCommand("cp " + one + "/depth_maps/* " + shared + "/depth_maps/ && cp " + one + "/normal_maps/* " + shared +
+                   "/normal_maps/ && cp " + one + "/mpmvs/*.maps.json " + shared + "/mpmvs/ && rm -f " + shared +
+                   "/mpmvs/*.state.bin");
+  other.Release(first_image_ + ".prior2");
+  run.join();
+  const std::string log = test::ReadTextFile(tmp_ / "shared.log");
+  EXPECT_TRUE(waited) << log;
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_NE(log.find(first_image_ + " (final maps exist, skipped)", log.find("to finish stage prior2")), std::string::npos) << log;
+  EXPECT_EQ(log.find("no usable source views"), std::string::npos) << log;
+  EXPECT_EQ(MapSums(tmp_ / "shared", tmp_ / "shared.sums"), expected_);
+}
+
+// A state whose claim another process holds may be being read there: a run that finds it no
+// longer needed leaves it (the holder's own removal takes it later). Here a finished
+// workspace with every state kept, one image's geometric depth map removed, is run again
+// while this test holds another image's photometric claim: every other state goes, that one
+// stays.
+TEST_F(ConcurrentRuns, StateAnotherProcessHoldsTheClaimOfIsNotRemoved) {
+  ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared") + " --MPMVS.keep_states 1", tmp_ / "kept.log"), 0)
+      << test::ReadTextFile(tmp_ / "kept.log");
+  test::RunCommand("cd " + tmp_ / "shared/stereo/depth_maps" + " && rm \"$(ls *.geometric.bin | tail -1)\"");
+  const std::string held = tmp_ / ("shared/stereo/mpmvs/" + first_image_ + ".photometric.state.bin");
+  ASSERT_TRUE(fs::exists(held));
+  WorkClaims other(Claims(), 600);
+  ASSERT_EQ(other.TryClaim(first_image_ + ".photometric"), WorkClaims::Result::kClaimed);
+  ASSERT_EQ(test::RunCommand(RunCommandLine(tmp_ / "shared"), tmp_ / "again.log"), 0)
+      << test::ReadTextFile(tmp_ / "again.log");
+  std::vector<std::string> states;
+  for (const auto& e : fs::directory_iterator(tmp_ / "shared/stereo/mpmvs")) {
+    if (e.path().string().find(".state.bin") != std::string::npos) states.push_back(e.path());
+  }
+  EXPECT_EQ(states, std::vector<std::string>{held}) << test::ReadTextFile(tmp_ / "again.log");
+}
+
 TEST_F(ConcurrentRuns, RunWithOtherOptionsStopsBeforeWritingAnything) {
   test::RunCommand("rm -rf " + tmp_ / "shared/stereo/depth_maps/*" + " " + tmp_ / "shared/stereo/normal_maps/*");
   {
