@@ -8,6 +8,10 @@
 //     (store/stage_reference.h), and released when its results are written. An image
 //     another live process holds is deferred ("doing other images first"); once the others
 //     are done, the deferred ones are waited for in turn.
+//   - What was judged at the start (final maps whole, results still needed) can be out of
+//     date where other processes share the run: one may have finished an image and removed
+//     the states no stage reads any more. An image is judged again from the disk when it is
+//     claimed, and a state is removed under its claim, never while another process holds it.
 //   - Look-ahead: while an image runs, the backend may ask for the next one (LookAhead),
 //     which is claimed and prepared then and handed out next; an error preparing it is
 //     raised by that Next(), where it would have been without looking ahead. Only within a

@@ -6,6 +6,8 @@
 // the share of the wall time outside the parallel work.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -297,6 +299,61 @@ void BM_EightViewRoomRun(benchmark::State& state) {
   state.counters["peak_MiB"] = PeakMemoryMiB();
 }
 BENCHMARK(BM_EightViewRoomRun)->ArgName("fast")->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// Peak resident memory of a run on large images (issue 33): the synthetic plane scene with
+// 5 views at 3200x2130 (COLMAP's default max_image_size) or 6000x4000, the five maps with a
+// short schedule (photometric stage only, one iteration at the 11 px window) and
+// --PatchMatchStereo.cache_size 1. The run is a child process, so that each size has its
+// own peak. The bound it should keep: the cache plus one reference image's working set,
+// its state (32 bytes per pixel) and the packed copies of its sources' images (4 bytes per
+// pixel each); the picture and colour buffers come on top. The 6000x4000 scene takes about
+// ten minutes here (--benchmark_filter=LargeImageMemory/3200 for the smaller one alone).
+void BM_LargeImageMemory(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const int height = width == 6000 ? 4000 : 2130;
+  constexpr int kViews = 5;
+  const std::string dir = PlaneScene("large_" + std::to_string(width), width, height, kViews, 30.0, 1);
+  double peak_mib = 0, seconds = 0;
+  for (auto _ : state) {
+    fs::remove_all(dir + "/stereo/mpmvs");
+    const auto start = std::chrono::steady_clock::now();
+    const pid_t child = ::fork();
+    if (child == 0) {
+      MpPatchMatchRun run;
+      run.workspace_path = dir;
+      run.colmap_options.cache_size = 1;
+      run.colmap_options.geom_consistency = false;
+      run.options.max_window_scale = 0;
+      run.options.iterations_per_scale = 1;
+      run.options.half_resolution_scales = 0;
+      run.options.overwrite = true;
+      run.options.write_pictures = "none";
+      try {
+        RunMpPatchMatchStereo(run);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s\n", e.what());
+        ::_exit(1);
+      }
+      ::_exit(0);
+    }
+    int status = 0;
+    rusage usage{};
+    if (child < 0 || ::wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      state.SkipWithError("the run on the large images failed");
+      return;
+    }
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    peak_mib = usage.ru_maxrss / 1024.0;
+  }
+  const double pixels = static_cast<double>(width) * height;
+  const double bound_mib = 1024.0 + (32.0 + 4.0 * (kViews - 1)) * pixels / (1024.0 * 1024.0);
+  state.counters["Mpx"] = pixels / 1e6;
+  state.counters["s_run"] = seconds;
+  state.counters["peak_MiB"] = peak_mib;
+  state.counters["bound_MiB"] = bound_mib;
+  state.counters["peak_over_bound"] = peak_mib / bound_mib;
+}
+BENCHMARK(BM_LargeImageMemory)->Arg(3200)->Arg(6000)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
 }  // namespace mpmvs
