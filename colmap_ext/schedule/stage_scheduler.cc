@@ -152,7 +152,11 @@ int StageScheduler::RemoveUnneededStates() {
     for (size_t s = 0; s < plan_.pipeline.stages.size(); ++s) {
       const int view = problems_[i].ref;
       const std::string& name = plan_.pipeline.stages[s].name;
-      if (needed[i][s] || !store_->HasState(view, name)) continue;
+      // Only files that are there take a claim; whether they are usable does not matter.
+      if (needed[i][s] || (!FileExists(store_->StatePath(view, name)) &&
+                           !FileExists(store_->StateRecordPath(view, name)))) {
+        continue;
+      }
       // A process that claimed this result after judging it needed may be reading it: its
       // claim keeps the state (it goes at a later removal).
       const std::string key = ClaimKey(view, static_cast<int>(s));

@@ -21,8 +21,9 @@ struct StageReference {
   Action action = Action::kCompute;
   const ReferenceProblem* problem = nullptr;
   bool filter_here = false;  // the output filter runs on this stage's written maps
-  // False for a reference whose final maps were whole at the start: it is computed only
-  // for the state another reference needs, and its maps are kept.
+  // False for a reference whose final maps were whole when it was claimed (at the start,
+  // or written meanwhile by another process of the run): it is computed only for the state
+  // another reference needs, and its maps are kept.
   bool write_final = true;
   kernels::PatchMatchProblem pm;
   std::vector<std::shared_ptr<const GrayImage>> images;
@@ -33,8 +34,8 @@ struct StageReference {
 };
 
 // Loads and assembles reference image p for stage stage_index; decides whether it is
-// computed, resumed or skipped. done: p's final maps were whole at the start of the run
-// (and are kept); state_needed: the run still needs this stage's result of p
+// computed, resumed or skipped. done: p's final maps are whole (judged when p was claimed;
+// they are kept); state_needed: the run still needs this stage's result of p
 // (schedule/stage_results.h), so a done reference without a usable state computes it. Throws Error naming the file on
 // damaged input.
 std::unique_ptr<StageReference> PrepareStageReference(const RunPlan& plan, const DenseWorkspace& workspace,
