@@ -88,10 +88,12 @@ StageScheduler::StageScheduler(const RunPlan& plan, const DenseWorkspace& worksp
       claims_(std::move(claims)),
       inputs_(plan, problems) {
   // Over every runnable image: which results this process's images need from the others.
-  for (const ReferenceProblem& p : problems_) {
-    done_.push_back(!plan_.overwrite && store_->AllFinalOutputsExist(p.ref));
-  }
+  for (size_t i = 0; i < problems_.size(); ++i) done_.push_back(FinalMapsDone(i));
   needed_ = NeededStageResults(plan_, problems_, inputs_, store_);
+}
+
+bool StageScheduler::FinalMapsDone(size_t i) const {
+  return !plan_.overwrite && store_->AllFinalOutputsExist(problems_[i].ref);
 }
 
 int StageScheduler::NumDone() const {
@@ -270,7 +272,7 @@ std::unique_ptr<StageReference> StageScheduler::ClaimAndPrepare(size_t k, bool w
     // What was judged before may be out of date: another process of the run may have
     // finished this image meanwhile (its final maps are then whole) and removed the states
     // that no stage reads any more. Judged again now that the claim keeps them.
-    done_[i] = !plan_.overwrite && store_->AllFinalOutputsExist(p.ref);
+    done_[i] = FinalMapsDone(i);
     needed_[i][stage_] = StageResultNeeded(plan_, problems_, inputs_, store_, stage_, i);
   }
   return PrepareStageReference(plan_, workspace_, store_, stage_, p, done_[i], needed_[i][stage_]);

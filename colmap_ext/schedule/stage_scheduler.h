@@ -75,6 +75,8 @@ class StageScheduler {
   // Claims and prepares this process's k-th image; nullptr when another live process holds
   // it and wait is false.
   std::unique_ptr<StageReference> ClaimAndPrepare(size_t k, bool wait);
+  // Whether image i's final maps are whole on the disk (and not to be recomputed).
+  bool FinalMapsDone(size_t i) const;
   std::string ClaimKey(int view, int stage) const;
 
   const RunPlan& plan_;
