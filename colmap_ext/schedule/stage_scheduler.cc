@@ -155,10 +155,7 @@ int StageScheduler::RemoveUnneededStates() {
       const int view = problems_[i].ref;
       const std::string& name = plan_.pipeline.stages[s].name;
       // Only files that are there take a claim; whether they are usable does not matter.
-      if (needed[i][s] || (!FileExists(store_->StatePath(view, name)) &&
-                           !FileExists(store_->StateRecordPath(view, name)))) {
-        continue;
-      }
+      if (needed[i][s] || !store_->StateFilesExist(view, name)) continue;
       // A process that claimed this result after judging it needed may be reading it: its
       // claim keeps the state (it goes at a later removal).
       const std::string key = ClaimKey(view, static_cast<int>(s));

@@ -249,6 +249,10 @@ void StageStore::WriteState(int view, const std::string& stage, const kernels::P
   state_usable_[{view, stage}] = {true, "", StateStamp(view, stage)};
 }
 
+bool StageStore::StateFilesExist(int view, const std::string& stage) const {
+  return FileExists(StatePath(view, stage)) || FileExists(StateRecordPath(view, stage));
+}
+
 bool StageStore::RemoveState(int view, const std::string& stage) {
   std::error_code ec;
   std::filesystem::remove(StateRecordPath(view, stage), ec);

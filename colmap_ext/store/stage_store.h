@@ -56,6 +56,8 @@ class StageStore {
   bool HasState(int view, const std::string& stage);
   // Throws Error naming the file when it is damaged or of another size than the view.
   kernels::PatchMatchResult ReadState(int view, const std::string& stage) const;
+  // Whether the state file or its record is on the disk, usable or not (no read).
+  bool StateFilesExist(int view, const std::string& stage) const;
   // Removes the state file and its record, record first (a state without its record is not
   // resumed); whether a state was there.
   bool RemoveState(int view, const std::string& stage);

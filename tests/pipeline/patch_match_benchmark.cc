@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <thread>
 
@@ -44,6 +45,25 @@ double ResidentMiB() {
     std::fclose(f);
   }
   return resident * static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+// Runs body in a forked child (so that its memory is its own); whether it exited 0. usage
+// (optional) receives the child's resource usage, its peak resident memory included.
+bool RunInChildProcess(const std::function<void()>& body, rusage* usage) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    try {
+      body();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      ::_exit(1);
+    }
+    ::_exit(0);
+  }
+  int status = 0;
+  rusage ignored{};
+  return child > 0 && ::wait4(child, &status, 0, usage ? usage : &ignored) == child && WIFEXITED(status) &&
+         WEXITSTATUS(status) == 0;
 }
 
 std::string ScratchDir(const std::string& name) {
@@ -328,14 +348,7 @@ void BM_LargeImageMemory(benchmark::State& state) {
   // Generated in a child process too: the run's child starts with this process's resident
   // memory, which must not hold the scene's buffers.
   const std::string name = "large_" + std::to_string(width);
-  const pid_t generator = ::fork();
-  if (generator == 0) {
-    PlaneScene(name, width, height, kViews, 30.0, 1);
-    ::_exit(0);
-  }
-  int generated = -1;
-  if (generator < 0 || ::waitpid(generator, &generated, 0) != generator || !WIFEXITED(generated) ||
-      WEXITSTATUS(generated) != 0) {
+  if (!RunInChildProcess([&] { PlaneScene(name, width, height, kViews, 30.0, 1); }, nullptr)) {
     state.SkipWithError("generating the large scene failed");
     return;
   }
@@ -345,28 +358,17 @@ void BM_LargeImageMemory(benchmark::State& state) {
   for (auto _ : state) {
     fs::remove_all(dir + "/stereo/mpmvs");
     const auto start = std::chrono::steady_clock::now();
-    const pid_t child = ::fork();
-    if (child == 0) {
-      MpPatchMatchRun run;
-      run.workspace_path = dir;
-      run.colmap_options.cache_size = 1;
-      run.colmap_options.geom_consistency = false;
-      run.options.max_window_scale = 0;
-      run.options.iterations_per_scale = 1;
-      run.options.half_resolution_scales = 0;
-      run.options.overwrite = true;
-      run.options.write_pictures = "none";
-      try {
-        RunMpPatchMatchStereo(run);
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "%s\n", e.what());
-        ::_exit(1);
-      }
-      ::_exit(0);
-    }
-    int status = 0;
+    MpPatchMatchRun run;
+    run.workspace_path = dir;
+    run.colmap_options.cache_size = 1;
+    run.colmap_options.geom_consistency = false;
+    run.options.max_window_scale = 0;
+    run.options.iterations_per_scale = 1;
+    run.options.half_resolution_scales = 0;
+    run.options.overwrite = true;
+    run.options.write_pictures = "none";
     rusage usage{};
-    if (child < 0 || ::wait4(child, &status, 0, &usage) != child || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    if (!RunInChildProcess([&] { RunMpPatchMatchStereo(run); }, &usage)) {
       state.SkipWithError("the run on the large images failed");
       return;
     }
