@@ -108,7 +108,8 @@ namespace mpmvs {
     "geometric prior vertices per cell (the photometric prior takes 1, as ACMP)")                                      \
   X(bool, prior_plane_vote, true, true, false, OptionRange::Any(), kResult,                                            \
     "each prior triangle takes the plane that the vertices around it vote for, among its neighbours' and its "         \
-    "vertices' planes; 0 = its own plane through its three vertices (paper)")                                          \
+    "vertices' planes, or a dominant plane of the image up to 3 % behind it; 0 = its own plane through its three "     \
+    "vertices (paper)")                                                                                                \
   X(bool, prior_source_vertices, true, true, false, OptionRange::Any(), kResult,                                       \
     "geometric prior: source views' vertices just outside the reference image join its triangulation; 0 = the "        \
     "reference's own vertices only (paper)")                                                                           \

@@ -166,6 +166,110 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
   return chosen;
 }
 
+// The image's dominant planes (kernels/DESIGN.md 31): greedily, the vertex tangent plane that
+// the most vertices lie on (within 0.5 %), each weighing the square root of a third of its
+// triangles' area as in the vote (a vertex that is no corner weighs nothing here), its
+// vertices then set aside, while a plane gathers at least kDominantShare of all the weight;
+// at most kMaxDominantPlanes. Candidates are at most kDominantCandidates tangent planes taken
+// at even steps; the result does not depend on the number of threads.
+std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
+                                           const std::vector<std::array<int, 3>>& faces, int num_threads) {
+  constexpr int kMaxDominantPlanes = 6;
+  constexpr float kDominantShare = 0.05f, kOnPlane = 0.005f;
+  constexpr size_t kDominantCandidates = 800;
+  const size_t nv = vertices.size();
+  std::vector<float> area(nv, 0.f);
+  for (const std::array<int, 3>& f : faces) {
+    const float third = ThirdOfArea(vertices[f[0]], vertices[f[1]], vertices[f[2]]);
+    for (int k = 0; k < 3; ++k) area[f[k]] += third;
+  }
+  std::vector<Vec3> rays(nv);
+  std::vector<float> weight(nv);
+  float total = 0.f;
+  for (size_t i = 0; i < nv; ++i) {
+    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
+    weight[i] = std::sqrt(area[i]);
+    total += weight[i];
+  }
+  std::vector<int> with_normal;
+  for (size_t i = 0; i < nv; ++i) {
+    if (kernels::Norm(vertices[i].normal) > 0.f) with_normal.push_back(static_cast<int>(i));
+  }
+  // The candidates side by side (normal, offset), so that each vertex is weighed against all
+  // of them in one loop the compiler vectorises; each candidate's support still adds up in
+  // the vertices' order, whatever the split over threads.
+  std::vector<float> nx, ny, nz, d;
+  const size_t step = std::max<size_t>(1, (with_normal.size() + kDominantCandidates - 1) / kDominantCandidates);
+  for (size_t c = 0; c < with_normal.size(); c += step) {
+    const int i = with_normal[c];
+    const kernels::Plane plane = FacingPlane(kernels::Normalize(vertices[i].normal), vertices[i].depth * rays[i]);
+    nx.push_back(plane.n.x);
+    ny.push_back(plane.n.y);
+    nz.push_back(plane.n.z);
+    d.push_back(plane.d);
+  }
+  const int nc = static_cast<int>(d.size());
+  auto on_plane = [&](int c, size_t i) {
+    const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, rays[i]);
+    const float off = (vertices[i].depth - z) / vertices[i].depth;
+    return std::isgreater(off, -kOnPlane) && std::isless(off, kOnPlane);
+  };
+  std::vector<uint8_t> taken(nv, 0);
+  std::vector<float> support(nc);
+  std::vector<kernels::Plane> dominant;
+  while (static_cast<int>(dominant.size()) < kMaxDominantPlanes && nc > 0) {
+    std::fill(support.begin(), support.end(), 0.f);
+    RunRangeInThreads(nc, num_threads, [&](int begin, int end) {
+      for (size_t i = 0; i < nv; ++i) {
+        if (taken[i]) continue;
+        const Vec3 ray = rays[i];
+        const float depth = vertices[i].depth, w = weight[i];
+        for (int c = begin; c < end; ++c) {
+          const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, ray);
+          const float off = (depth - z) / depth;
+          support[c] += (std::isgreater(off, -kOnPlane) && std::isless(off, kOnPlane)) ? w : 0.f;
+        }
+      }
+    });
+    const int best = static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
+    if (support[best] < kDominantShare * total) break;
+    dominant.push_back(kernels::Plane{Vec3{nx[best], ny[best], nz[best]}, d[best]});
+    for (size_t i = 0; i < nv; ++i) taken[i] |= on_plane(best, i);
+  }
+  return dominant;
+}
+
+// A triangle's plane parallel to a dominant plane (within 10 degrees) and less than 3 % in
+// front of it is that dominant plane, the farthest of those that qualify (kernels/DESIGN.md
+// 31): a plain stretch of wall between objects a little in front of it has vertices only on
+// the objects, and its triangles would otherwise carry the objects' plane.
+void SnapToDominantPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
+                          const std::vector<std::array<int, 3>>& faces, const std::vector<kernels::Plane>& dominant,
+                          std::vector<kernels::Plane>* planes) {
+  constexpr float kSnapInFront = 0.03f, kOnPlane = 0.005f, kMinCos = 0.985f;  // cos 10 degrees
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const PlanarPriorVertex& a = vertices[faces[f][0]];
+    const PlanarPriorVertex& b = vertices[faces[f][1]];
+    const PlanarPriorVertex& c = vertices[faces[f][2]];
+    const Vec3 ray = kernels::PixelRay(camera, (a.u + b.u + c.u) / 3.f, (a.v + b.v + c.v) / 3.f);
+    kernels::Plane& plane = (*planes)[f];
+    const float z = kernels::PlaneDepth(plane, ray);
+    if (!(z > 0.f)) continue;
+    float farthest = 0.f;
+    const kernels::Plane* snap = nullptr;
+    for (const kernels::Plane& d : dominant) {
+      const float zd = kernels::PlaneDepth(d, ray);
+      if (!(zd > 0.f) || kernels::Dot(plane.n, d.n) <= kMinCos) continue;
+      const float behind = (zd - z) / zd;
+      if (behind >= -kOnPlane && behind <= kSnapInFront && zd > farthest) {
+        farthest = zd;
+        snap = &d;
+      }
+    }
+    if (snap) plane = *snap;
+  }
+}
+
 // Appends the vertices of outside that lie outside the W x H image, within half its size of
 // its border, with depth in [depth_min, depth_max]: at most per_cell in each cell of the
 // selection grid extended over that margin, first come first kept.
@@ -351,9 +455,13 @@ PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vec
     faces.push_back(idx);
     own.push_back(FacingPlane(kernels::Normalize(n), X[0]));
   }
-  const std::vector<kernels::Plane> chosen =
+  std::vector<kernels::Plane> chosen =
       options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, vote_only, options.num_threads,
                                                          &model.num_voted_triangles) : own;
+  if (options.plane_vote) {
+    SnapToDominantPlanes(camera, model.vertices, faces,
+                         DominantPlanes(camera, model.vertices, faces, options.num_threads), &chosen);
+  }
 
   for (size_t f = 0; f < faces.size(); ++f) {
     const std::array<int, 3>& idx = faces[f];

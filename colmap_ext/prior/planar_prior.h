@@ -18,7 +18,8 @@ struct PlanarPriorOptions {
   float max_geom_error = 1.0f;       // geometric: m_g < (px)
   float max_cost_photometric = 0.1f;  // photometric: cost <
   // Each triangle takes the plane its neighbourhood of vertices votes for (planar_prior.cc,
-  // VotedPlanes) instead of its own plane through its three vertices (false: the paper).
+  // VotedPlanes), or a dominant plane of the image a little behind it (SnapToDominantPlanes),
+  // instead of its own plane through its three vertices (false: the paper).
   bool plane_vote = true;
   // Geometric selection: vertices of the source views that fall outside the reference image
   // join its triangulation (PlanarPriorFromVertices' outside_vertices), so that a surface whose

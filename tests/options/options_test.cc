@@ -32,7 +32,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
   MpMvsOptions earlier;
   earlier.half_resolution_scales = 0;  // the default before 5 Dec 2026
   EXPECT_EQ(StateOptionsText(earlier),
-      "math_revision 7\n"
+      "math_revision 8\n"
       "max_window_scale 2\n"
       "iterations_per_scale 3\n"
       "distant_sampling 1\n"
@@ -72,7 +72,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
   b.overwrite = true;  // options of the run do not enter it
   b.stage = "prior";
   EXPECT_EQ(StateOptionsText(b),
-      "math_revision 7\n"
+      "math_revision 8\n"
       "max_window_scale 2\n"
       "iterations_per_scale 3\n"
       "distant_sampling 0\n"

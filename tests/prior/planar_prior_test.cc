@@ -411,6 +411,38 @@ TEST(PlanarPrior, WallBesideAFrameIsNotPulledTowardsTheFrame) {
   EXPECT_GT(wall.near, 0.9 * wall.labelled);
 }
 
+// A plain strip of wall between two objects 1.5 % in front of it (a curtain and a window
+// frame), with vertices only on the objects beside it: every triangle over the strip joins
+// the two objects, and every vertex around it lies on their plane. The wall's vertices
+// farther out make the wall a dominant plane of the image; the strip's triangles, parallel
+// to it and less than 3 % in front of it, take it.
+TEST(PlanarPrior, PlainStripBetweenObjectsInFrontOfAWallTakesTheWallPlane) {
+  const int W = 120, H = 60;
+  const kernels::Camera cam = MakeCamera(W, H);
+  std::vector<float> depth(W * H), photo(W * H, 1.f), geo(W * H, 0.f), planes(4 * W * H, 0.f);
+  auto object = [](int u) { return (u >= 40 && u < 44) || (u >= 76 && u < 80); };
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      depth[i] = object(u) ? 3.94f : 4.f;
+      planes[4 * i + 2] = -1.f;  // fronto-parallel tangent planes
+    }
+  }
+  for (int v = 1; v < H; v += 3) {
+    photo[v * W + 42] = 0.05f;  // the objects: dense
+    photo[v * W + 77] = 0.05f;
+  }
+  for (int v = 3; v < H; v += 12) {
+    for (int u : {4, 16, 28, 92, 104, 116}) photo[v * W + u] = 0.05f;  // the wall: sparse
+  }
+  PlanarPriorOptions options;
+  const PlanarPriorModel model = BuildPlanarPrior(cam, depth, photo, geo, 1.f, 10.f, options, &planes);
+  // The strip's pixels (u 46..73) within 0.5 % of the wall.
+  const PixelCount strip = PriorDepthsNear(model, cam, 46, 74, 6, H - 6, 4.f, 0.005f);
+  ASSERT_GT(strip.labelled, 28 * (H - 12) * 9 / 10);
+  EXPECT_GT(strip.near, 0.95 * strip.labelled);
+}
+
 // A source view's vertex lands where its 3-D point projects in the reference, with the
 // reference's depth and the normal rotated into the reference frame; points behind the
 // reference are dropped.
