@@ -37,6 +37,27 @@ float ThirdOfArea(const PlanarPriorVertex& a, const PlanarPriorVertex& b, const 
   return std::abs(float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u)) / 6.f;
 }
 
+// Each vertex's viewing ray (its depth along it is its point).
+std::vector<Vec3> VertexRays(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices) {
+  std::vector<Vec3> rays(vertices.size());
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
+  }
+  return rays;
+}
+
+// Each vertex's share of the triangles' area: a third of its incident triangles' area, in
+// pixels (0 for a vertex that is no corner). Its square root weighs the vertex's vote.
+std::vector<float> CornerAreas(const std::vector<PlanarPriorVertex>& vertices,
+                               const std::vector<std::array<int, 3>>& faces) {
+  std::vector<float> area(vertices.size(), 0.f);
+  for (const std::array<int, 3>& f : faces) {
+    const float third = ThirdOfArea(vertices[f[0]], vertices[f[1]], vertices[f[2]]);
+    for (int k = 0; k < 3; ++k) area[f[k]] += third;
+  }
+  return area;
+}
+
 // A vertex that votes but is no corner: the corners of the triangle it falls in, and a third
 // of that triangle's area in pixels (its vote's weight is the square root, as a corner's).
 struct VoteOnlyVertex {
@@ -64,17 +85,13 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
                                         int* num_changed) {
   constexpr float kInFront = 0.01f, kBehind = 0.007f;  // relative to the vertex's depth
   const size_t nv = vertices.size();
-  std::vector<Vec3> points(nv), rays(nv);
-  for (size_t i = 0; i < nv; ++i) {
-    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
-    points[i] = vertices[i].depth * rays[i];
-  }
+  const std::vector<Vec3> rays = VertexRays(camera, vertices);
+  std::vector<Vec3> points(nv);
+  for (size_t i = 0; i < nv; ++i) points[i] = vertices[i].depth * rays[i];
   std::vector<std::vector<int>> ring(nv), incident(nv);
-  std::vector<float> area(nv, 0.f);  // a third of the incident triangles' area, in pixels
+  std::vector<float> area = CornerAreas(vertices, faces);
   for (size_t f = 0; f < faces.size(); ++f) {
-    const float third = ThirdOfArea(vertices[faces[f][0]], vertices[faces[f][1]], vertices[faces[f][2]]);
     for (int k = 0; k < 3; ++k) {
-      area[faces[f][k]] += third;
       incident[faces[f][k]].push_back(static_cast<int>(f));
       ring[faces[f][k]].push_back(faces[f][(k + 1) % 3]);
       ring[faces[f][k]].push_back(faces[f][(k + 2) % 3]);
@@ -178,16 +195,11 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
   constexpr float kDominantShare = 0.05f, kOnPlane = 0.005f;
   constexpr size_t kDominantCandidates = 800;
   const size_t nv = vertices.size();
-  std::vector<float> area(nv, 0.f);
-  for (const std::array<int, 3>& f : faces) {
-    const float third = ThirdOfArea(vertices[f[0]], vertices[f[1]], vertices[f[2]]);
-    for (int k = 0; k < 3; ++k) area[f[k]] += third;
-  }
-  std::vector<Vec3> rays(nv);
+  const std::vector<float> area = CornerAreas(vertices, faces);
+  const std::vector<Vec3> rays = VertexRays(camera, vertices);
   std::vector<float> weight(nv);
   float total = 0.f;
   for (size_t i = 0; i < nv; ++i) {
-    rays[i] = kernels::PixelRay(camera, static_cast<float>(vertices[i].u), static_cast<float>(vertices[i].v));
     weight[i] = std::sqrt(area[i]);
     total += weight[i];
   }
