@@ -183,6 +183,14 @@ std::vector<kernels::Plane> VotedPlanes(const kernels::Camera& camera, const std
   return chosen;
 }
 
+// Whether the point at depth along ray lies on the plane (n, d), within tolerance of its depth.
+// Branch-free, so that a loop over planes vectorises.
+bool OnPlane(float depth, const Vec3& ray, const Vec3& n, float d, float tolerance) {
+  const float z = -d / kernels::Dot(n, ray);
+  const float off = (depth - z) / depth;
+  return std::isgreater(off, -tolerance) && std::isless(off, tolerance);
+}
+
 // The image's dominant planes (kernels/DESIGN.md 31): greedily, the vertex tangent plane that
 // the most vertices lie on (within 0.5 %), each weighing the square root of a third of its
 // triangles' area as in the vote (a vertex that is no corner weighs nothing here), its
@@ -221,11 +229,6 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
     d.push_back(plane.d);
   }
   const int nc = static_cast<int>(d.size());
-  auto on_plane = [&](int c, size_t i) {
-    const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, rays[i]);
-    const float off = (vertices[i].depth - z) / vertices[i].depth;
-    return std::isgreater(off, -kOnPlane) && std::isless(off, kOnPlane);
-  };
   std::vector<uint8_t> taken(nv, 0);
   std::vector<float> support(nc);
   std::vector<kernels::Plane> dominant;
@@ -237,16 +240,15 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
         const Vec3 ray = rays[i];
         const float depth = vertices[i].depth, w = weight[i];
         for (int c = begin; c < end; ++c) {
-          const float z = -d[c] / kernels::Dot(Vec3{nx[c], ny[c], nz[c]}, ray);
-          const float off = (depth - z) / depth;
-          support[c] += (std::isgreater(off, -kOnPlane) && std::isless(off, kOnPlane)) ? w : 0.f;
+          support[c] += OnPlane(depth, ray, Vec3{nx[c], ny[c], nz[c]}, d[c], kOnPlane) ? w : 0.f;
         }
       }
     });
     const int best = static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
     if (support[best] < kDominantShare * total) break;
     dominant.push_back(kernels::Plane{Vec3{nx[best], ny[best], nz[best]}, d[best]});
-    for (size_t i = 0; i < nv; ++i) taken[i] |= on_plane(best, i);
+    const Vec3 n{nx[best], ny[best], nz[best]};
+    for (size_t i = 0; i < nv; ++i) taken[i] |= OnPlane(vertices[i].depth, rays[i], n, d[best], kOnPlane);
   }
   return dominant;
 }
