@@ -246,9 +246,9 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
     });
     const int best = static_cast<int>(std::max_element(support.begin(), support.end()) - support.begin());
     if (support[best] < kDominantShare * total) break;
-    dominant.push_back(kernels::Plane{Vec3{nx[best], ny[best], nz[best]}, d[best]});
-    const Vec3 n{nx[best], ny[best], nz[best]};
-    for (size_t i = 0; i < nv; ++i) taken[i] |= OnPlane(vertices[i].depth, rays[i], n, d[best], kOnPlane);
+    const kernels::Plane plane{Vec3{nx[best], ny[best], nz[best]}, d[best]};
+    dominant.push_back(plane);
+    for (size_t i = 0; i < nv; ++i) taken[i] |= OnPlane(vertices[i].depth, rays[i], plane.n, plane.d, kOnPlane);
   }
   return dominant;
 }
