@@ -75,7 +75,7 @@ namespace mpmvs {
   X(geom_consistency_max_cost, "use --MPMVS.geom_max_error")
 
 // The method's options. FAST and PAPER: the values of `--MPMVS.preset fast` (6 iterations
-// of the default's 21, one prior round, settled pixels skip updates: docs/results.md) and
+// of the default's 21, one prior round, candidates costed in fewer views: docs/results.md) and
 // `--MPMVS.preset paper` (MP-MVS as published).
 // The options that change results come first, in the order of the state fingerprint (which
 // must not change: states written by earlier builds stay valid).
@@ -132,7 +132,7 @@ namespace mpmvs {
   X(int, max_source_images, 20, 20, 20, OptionRange::Closed(1, 32), kResult, "source images used per reference")       \
   X(int, seed, 1, 1, 1, OptionRange::Closed(0, 2147483647), kResult,                                                   \
     "random streams (results do not depend on thread count)")                                                          \
-  X(int, settled_pixel_skips, 0, 2, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
+  X(int, settled_pixel_skips, 0, 0, 0, OptionRange::Closed(0, 255), kResultWhenSet,                                    \
     "a pixel whose update moved its plane by at most 0.5 % in depth and 3 degrees skips this many of its next "        \
     "updates at the same window scale; 0 = every pixel in every pass (paper)")                                         \
   X(int, costed_views, 0, 3, 0, OptionRange::Closed(0, 32), kResultWhenSet,                                            \

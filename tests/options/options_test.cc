@@ -121,6 +121,20 @@ std::vector<std::string> StageNames(const PipelinePlan& plan, int* iterations) {
   return names;
 }
 
+// Whether a stage runs two iterations in a row at one window scale and resolution: only there
+// does a settled pixel skip an update (kernels/DESIGN.md 27).
+bool SomeStageRepeatsAWindowScale(const PipelinePlan& plan) {
+  for (const StagePlan& stage : plan.stages) {
+    const std::vector<kernels::IterationSpec>& it = stage.schedule.iterations;
+    for (size_t i = 1; i < it.size(); ++i) {
+      if (it[i].window_scale == it[i - 1].window_scale && it[i].half_resolution == it[i - 1].half_resolution) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   PatchMatchStereoOptions colmap;
   const MpMvsOptions paper = Parse({"--MPMVS.preset", "paper"}, &colmap);
@@ -141,8 +155,7 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(StateOptionsText(Parse({"--MPMVS.preset", "default"})), StateOptionsText(MpMvsOptions{}));
 
   // fast: one iteration per window scale, the two larger windows at half resolution, fewer
-  // iterations per stage, one prior round, settled pixels skip two updates, the candidates
-  // costed in three views.
+  // iterations per stage, one prior round, the candidates costed in three views.
   const MpMvsOptions fast = Parse({"--MPMVS.preset", "fast"}, &colmap);
   EXPECT_EQ(StageNames(MakePipelinePlan(colmap, fast), &iterations),
             (std::vector<std::string>{"photometric", "geometric1", "prior", "geometric2", "depth_check"}));
@@ -150,7 +163,9 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(fast.prior_rounds, 1);
   EXPECT_EQ(fast.iterations_per_scale, 1);
   EXPECT_EQ(fast.prior_iterations, 1);
-  EXPECT_EQ(fast.settled_pixel_skips, 2);
+  // Settled pixels skip updates only at a window scale a stage runs twice in a row; fast runs
+  // none twice, so it must not set the option (it did: its fingerprint changed, its maps not).
+  EXPECT_FALSE(fast.settled_pixel_skips > 0 && !SomeStageRepeatsAWindowScale(MakePipelinePlan(colmap, fast)));
   EXPECT_EQ(fast.costed_views, 3);
   EXPECT_EQ(fast.max_window_scale, 2);
   EXPECT_EQ(fast.half_resolution_scales, 2);
