@@ -5,19 +5,19 @@
 namespace mpmvs {
 
 DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_error_clamp, int min_views,
-                               int num_threads, kernels::PatchMatchResult* result) {
+                               float tolerance, int num_threads, kernels::PatchMatchResult* result) {
   kernels::InvalidateGeometricallyInconsistent(geom_error_clamp, result);
   DepthCheckCounts counts;
-  counts.unconfirmed = kernels::InvalidateUnconfirmedDepthsCpu(problem, min_views, kDepthCheckMaxRelativeError,
+  counts.unconfirmed = kernels::InvalidateUnconfirmedDepthsCpu(problem, min_views, tolerance,
                                                                num_threads, result);
   counts.speckles = kernels::InvalidateSmallDepthSegments(problem, kDepthCheckMinSegmentPixels,
-                                                          kDepthCheckMaxRelativeError, result);
+                                                          kDepthSegmentMaxRelativeStep, result);
   return counts;
 }
 
-void MarkConfirmingViews(const kernels::PatchMatchProblem& problem, int num_threads,
+void MarkConfirmingViews(const kernels::PatchMatchProblem& problem, float tolerance, int num_threads,
                          kernels::PatchMatchResult* result) {
-  kernels::MarkConfirmingViewsCpu(problem, kDepthCheckMaxRelativeError, num_threads, result);
+  kernels::MarkConfirmingViewsCpu(problem, tolerance, num_threads, result);
 }
 
 }  // namespace mpmvs

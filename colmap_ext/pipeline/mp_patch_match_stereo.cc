@@ -349,7 +349,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
         result = ref->input;
         const auto check_start = std::chrono::steady_clock::now();
         const DepthCheckCounts removed = RunDepthCheck(ref->pm, stage.schedule.geom_error_clamp,
-                                                       stage.confirming_views, plan_.num_threads, &result);
+                                                       stage.confirming_views, p.depth_check_tolerance,
+                                                       plan_.num_threads, &result);
         parallel_seconds_ += SecondsSince(check_start);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
         LogDetail(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
@@ -357,7 +358,9 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
         // The state keeps no view selection: the graph is made here, where the sources' results are.
-        if (plan_.write_consistency_graph && ref->write_final) MarkConfirmingViews(ref->pm, plan_.num_threads, &result);
+        if (plan_.write_consistency_graph && ref->write_final) {
+          MarkConfirmingViews(ref->pm, p.depth_check_tolerance, plan_.num_threads, &result);
+        }
       } else {
         // A long image reports its iterations now and then.
         const auto image_start = std::chrono::steady_clock::now();

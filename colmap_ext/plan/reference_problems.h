@@ -6,6 +6,7 @@
 
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/options/patch_match_options.h"
+#include "colmap_ext/plan/depth_check_tolerance.h"
 
 namespace mpmvs {
 
@@ -13,6 +14,9 @@ struct ReferenceProblem {
   int ref = -1;
   std::vector<int> src;
   float depth_min = 0, depth_max = 0;
+  // The depth check's tolerance relative to depth (depth_check_tolerance.h): one value for
+  // the model.
+  float depth_check_tolerance = kDepthCheckBaseTolerance;
 };
 
 struct ReferenceProblems {
@@ -26,7 +30,8 @@ struct ReferenceProblems {
 // max_sources, takes the depth range from the options or the sparse points, and
 // warns about each reference that cannot run. A reference listed again is ignored (with a
 // warning). A missing image file is an Error naming it, or, with allow_missing_files, a
-// reference skipped or a source dropped with a warning (as COLMAP).
+// reference skipped or a source dropped with a warning (as COLMAP). Every problem carries the
+// depth check's tolerance of the workspace's model, said once when it is wider than 1 %.
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
                                         const PatchMatchStereoOptions& colmap_options,
                                         int max_sources);

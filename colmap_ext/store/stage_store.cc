@@ -198,6 +198,11 @@ uint64_t StageStore::InputsHash(int view) const {
   char range[64];
   std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
   std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
+  // Only a widened tolerance enters, so that workspaces of exactly posed models stay valid.
+  if (p.depth_check_tolerance != kDepthCheckBaseTolerance) {
+    std::snprintf(range, sizeof(range), "%.9g", p.depth_check_tolerance);
+    inputs += "depth check tolerance " + std::string(range) + "\n";
+  }
   for (int src : p.src) inputs += "source " + ViewIdentity(src);
   return HashText(inputs);
 }

@@ -10,6 +10,7 @@
 #include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/store/result_fingerprint.h"
 #include "colmap_ext/store/stage_store.h"
+#include "colmap_ext/util/file_util.h"
 #include "kernels/patch_match.h"
 #include "tests/test_util.h"
 
@@ -47,6 +48,45 @@ TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
   }
   // The scales differ somewhere (a test of a mask that ignored the scale would pass above).
   EXPECT_NE(*store.PlainWindows(0, 0), *store.PlainWindows(0, 1));
+}
+
+// A state made with another depth check tolerance (the sparse model's poses changed) is not
+// resumed; one made with the same is. Exactly posed models keep 1 %, which leaves the states
+// of earlier builds valid.
+TEST(StageStore, AStateOfAnotherDepthCheckToleranceIsNotResumed) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
+  MpMvsWorkspaceIo io;
+  const DenseWorkspace workspace = io.Load(tmp / "ws", -1);
+  const PatchMatchStereoOptions colmap_options;
+  const MpMvsOptions options;
+  const RunPlan plan = MakeRunPlan(colmap_options, options, false);
+  std::vector<ReferenceProblem> problems =
+      LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
+  ASSERT_FALSE(problems.empty());
+  auto store_with = [&](float tolerance) {
+    for (ReferenceProblem& p : problems) p.depth_check_tolerance = tolerance;
+    return std::make_unique<StageStore>(workspace, &io, plan, problems,
+                                        MakeResultFingerprint(colmap_options, options, workspace, problems));
+  };
+  const ReferenceProblem& p = problems[0];
+  kernels::PatchMatchResult state;
+  state.width = workspace.views[p.ref].width;
+  state.height = workspace.views[p.ref].height;
+  const size_t n = static_cast<size_t>(state.width) * state.height;
+  const float depth = 0.5f * (p.depth_min + p.depth_max);
+  for (size_t i = 0; i < n; ++i) state.plane.insert(state.plane.end(), {0.f, 0.f, -1.f, depth});
+  state.cost.assign(n, 0.5f);
+  state.photo_cost.assign(n, 0.5f);
+  state.geo_error.assign(n, 0.f);
+  state.view_mask.assign(n, 1u);
+  CreateDirectories(workspace.IntermediateDir());
+  store_with(kDepthCheckBaseTolerance)->WriteState(p.ref, "geometric3", state);
+  EXPECT_TRUE(store_with(kDepthCheckBaseTolerance)->HasState(p.ref, "geometric3"));
+  EXPECT_FALSE(store_with(0.02f)->HasState(p.ref, "geometric3"));
+  store_with(0.02f)->WriteState(p.ref, "geometric3", state);
+  EXPECT_TRUE(store_with(0.02f)->HasState(p.ref, "geometric3"));
+  EXPECT_FALSE(store_with(0.03f)->HasState(p.ref, "geometric3"));
 }
 
 }  // namespace
