@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <exception>
 #include <memory>
 #include <set>
@@ -156,6 +157,17 @@ bool Controller::Plan(MpPatchMatchSummary* summary) {
   ReferenceProblems loaded =
       LoadReferenceProblems(workspace_, run_.config_path, run_.colmap_options, plan_.sources_per_reference);
   problems_ = std::move(loaded.runnable);
+  const int written = plan_.pipeline.geometric_output;
+  if (loaded.depth_check.relative > kDepthCheckBaseTolerance && written >= 0 &&
+      plan_.pipeline.stages[written].kind == StageKind::kDepthCheck) {
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "the sparse points' mean reprojection error is %.2f px (%.2f mrad): the depth check confirms "
+                  "depths within %.2f %% instead of 1 %%",
+                  loaded.depth_check.mean_error_px, 1000 * loaded.depth_check.mean_error_rad,
+                  100 * loaded.depth_check.relative);
+    LogInfo(text);
+  }
   summary->num_skipped_no_sources = loaded.num_skipped_no_sources;
   summary->num_skipped_no_depth_range = loaded.num_skipped_no_depth_range;
   summary->num_skipped_missing_files = loaded.num_skipped_missing_files;

@@ -5,29 +5,30 @@
 
 namespace mpmvs {
 
-DepthCheckTolerance DepthCheckToleranceOf(const SparseModel& model) {
+DepthCheckTolerance DepthCheckToleranceOf(const DenseWorkspace& workspace) {
   DepthCheckTolerance tolerance;
+  // The errors are in the model's pixels: the focal lengths before max_image_size scaling.
   double focal_sum = 0;
   int focal_count = 0;
-  for (const SparseImage& image : model.images) {
-    const int c = model.FindCamera(image.camera_id);
-    if (c < 0 || model.cameras[c].params.empty()) continue;
-    const std::vector<double>& params = model.cameras[c].params;
-    // SIMPLE_PINHOLE: f, cx, cy; PINHOLE: fx, fy, cx, cy (undistorted workspaces have no other).
-    const double focal = model.cameras[c].model_id == kPinholeModelId && params.size() >= 2
-                             ? 0.5 * (params[0] + params[1])
-                             : params[0];
-    if (!(focal > 0)) continue;
+  for (const DenseView& view : workspace.views) {
+    if (view.width <= 0) continue;
+    const double focal = 0.5 * (view.K[0] + view.K[4]) * view.original_width / view.width;
+    if (!(focal > 0) || !std::isfinite(focal)) continue;
     focal_sum += focal;
     ++focal_count;
   }
   double error_sum = 0;
-  for (const SparsePoint3D& point : model.points) error_sum += point.error;
-  if (focal_count == 0 || model.points.empty() || !std::isfinite(error_sum) || error_sum < 0) return tolerance;
-  tolerance.mean_error_px = error_sum / model.points.size();
+  size_t error_count = 0;
+  for (const SparsePoint3D& point : workspace.model.points) {
+    if (!std::isfinite(point.error) || point.error < 0) continue;
+    error_sum += point.error;
+    ++error_count;
+  }
+  if (focal_count == 0 || error_count == 0 || !std::isfinite(error_sum)) return tolerance;
+  tolerance.mean_error_px = error_sum / error_count;
   tolerance.mean_error_rad = tolerance.mean_error_px / (focal_sum / focal_count);
-  tolerance.relative = static_cast<float>(
-      std::max<double>(kDepthCheckBaseTolerance, kDepthCheckTolerancePerRadian * tolerance.mean_error_rad));
+  tolerance.relative = static_cast<float>(std::clamp(kDepthCheckTolerancePerRadian * tolerance.mean_error_rad,
+                                                     static_cast<double>(kDepthCheckBaseTolerance), 1.0));
   return tolerance;
 }
 

@@ -1,6 +1,5 @@
 #include "colmap_ext/plan/reference_problems.h"
 
-#include <cstdio>
 #include <set>
 
 #include "colmap_ext/plan/kernel_camera.h"
@@ -72,20 +71,12 @@ ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const s
     }
     return true;
   };
-  const DepthCheckTolerance tolerance = DepthCheckToleranceOf(workspace.model);
-  if (tolerance.relative > kDepthCheckBaseTolerance) {
-    char text[200];
-    std::snprintf(text, sizeof(text),
-                  "the sparse points' mean reprojection error is %.2f px (%.2f mrad): the depth check confirms "
-                  "depths within %.2f %% instead of 1 %%",
-                  tolerance.mean_error_px, 1000 * tolerance.mean_error_rad, 100 * tolerance.relative);
-    LogInfo(text);
-  }
+  problems.depth_check = DepthCheckToleranceOf(workspace);
   std::set<int> listed;
   for (const StereoProblem& spec : ReadPatchMatchConfig(cfg, workspace, colmap_options.min_triangulation_angle)) {
     ReferenceProblem p;
     p.ref = spec.ref;
-    p.depth_check_tolerance = tolerance.relative;
+    p.depth_check_tolerance = problems.depth_check.relative;
     const DenseView& view = workspace.views[p.ref];
     if (!listed.insert(p.ref).second) {
       LogWarning(cfg + ": reference " + view.name + " is listed more than once; its later entries are ignored");

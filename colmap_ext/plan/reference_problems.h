@@ -24,6 +24,7 @@ struct ReferenceProblems {
   int num_skipped_no_sources = 0;
   int num_skipped_no_depth_range = 0;
   int num_skipped_missing_files = 0;  // --PatchMatchStereo.allow_missing_files
+  DepthCheckTolerance depth_check;    // of the workspace's model, in every problem
 };
 
 // Reads config_path ("" = WS/stereo/patch-match.cfg), caps the sources at
@@ -31,7 +32,7 @@ struct ReferenceProblems {
 // warns about each reference that cannot run. A reference listed again is ignored (with a
 // warning). A missing image file is an Error naming it, or, with allow_missing_files, a
 // reference skipped or a source dropped with a warning (as COLMAP). Every problem carries the
-// depth check's tolerance of the workspace's model, said once when it is wider than 1 %.
+// depth check's tolerance of the workspace's model.
 ReferenceProblems LoadReferenceProblems(const DenseWorkspace& workspace, const std::string& config_path,
                                         const PatchMatchStereoOptions& colmap_options,
                                         int max_sources);

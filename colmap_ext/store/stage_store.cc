@@ -162,7 +162,7 @@ std::string StageStore::CheckState(int view, const std::string& stage, bool* cha
   }
   if (record.options != expected.options) return "it was made with other --MPMVS options";
   if (record.inputs != expected.inputs) {
-    return "it was made from other images, cameras, depth range or source images";
+    return "it was made from other images, cameras, depth range, source images or depth check tolerance";
   }
   *changed = false;
   try {
@@ -189,17 +189,30 @@ StateRecord StageStore::ExpectedRecord(int view, const std::string& stage) {
     }
   }
   record.options = HashText(fingerprint_.state_options + "stages " + chain + "\n");
-  record.inputs = InputsHash(view);
+  record.inputs = InputsHash(view, IsDepthCheckStage(stage));
   return record;
 }
 
-uint64_t StageStore::InputsHash(int view) const {
+bool StageStore::IsDepthCheckStage(const std::string& stage) const {
+  for (const StagePlan& s : plan_.pipeline.stages) {
+    if (s.name == stage) return s.kind == StageKind::kDepthCheck;
+  }
+  return false;
+}
+
+bool StageStore::MapsFromDepthCheck(const std::string& type) const {
+  const int k = type == "geometric" ? plan_.pipeline.geometric_output : plan_.pipeline.photometric_output;
+  return k >= 0 && plan_.pipeline.stages[k].kind == StageKind::kDepthCheck;
+}
+
+uint64_t StageStore::InputsHash(int view, bool depth_check) const {
   const ReferenceProblem& p = problems_.at(view);
   char range[64];
   std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
   std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
-  // Only a widened tolerance enters, so that workspaces of exactly posed models stay valid.
-  if (p.depth_check_tolerance != kDepthCheckBaseTolerance) {
+  // Only the depth check's results depend on its tolerance, and only a widened one enters:
+  // the records of exactly posed models stay those of builds before the tolerance could widen.
+  if (depth_check && p.depth_check_tolerance != kDepthCheckBaseTolerance) {
     std::snprintf(range, sizeof(range), "%.9g", p.depth_check_tolerance);
     inputs += "depth check tolerance " + std::string(range) + "\n";
   }
@@ -320,9 +333,11 @@ FinalMapsCheck StageStore::CheckFinalOutputs(int view, const std::string& type) 
       all_there = false;
       continue;
     }
-    if (has_record && (record.maps_options != HashText(fingerprint_.maps_options) || record.inputs != InputsHash(view))) {
+    if (has_record && (record.maps_options != HashText(fingerprint_.maps_options) ||
+                       record.inputs != InputsHash(view, MapsFromDepthCheck(type)))) {
       const std::string changed = ChangedOptions(record.options, fingerprint_.options);
-      check.other_options = changed.empty() ? "other images, cameras, depth range or sources" : changed;
+      check.other_options =
+          changed.empty() ? "other images, cameras, depth range, sources or depth check tolerance" : changed;
       return check;
     }
     std::string why;
@@ -410,7 +425,7 @@ void StageStore::WriteMapsRecord(int view, const std::string& type) const {
   record.type = type;
   record.options = fingerprint_.options;
   record.maps_options = HashText(fingerprint_.maps_options);
-  record.inputs = InputsHash(view);
+  record.inputs = InputsHash(view, MapsFromDepthCheck(type));
   for (const FinalFile& file : FinalFiles(workspace_, view, type, plan_.write_consistency_graph)) {
     record.files.push_back(DescribeFile(file.path, file.role));
   }

@@ -112,8 +112,11 @@ class StageStore {
   // Identity of a view's picture and camera: name, size, K, R, T and the image file's hash.
   std::string ViewIdentity(int view) const;
   // Hash of what a view's results are made from: its and its sources' identities, its
-  // depth range and sources.
-  uint64_t InputsHash(int view) const;
+  // depth range and sources, and for the depth check's results (depth_check) its tolerance.
+  uint64_t InputsHash(int view, bool depth_check) const;
+  // Whether the results of this stage, or the final maps of this type, are the depth check's.
+  bool IsDepthCheckStage(const std::string& stage) const;
+  bool MapsFromDepthCheck(const std::string& type) const;
 
   const DenseWorkspace& workspace_;
   WorkspaceIo* io_;

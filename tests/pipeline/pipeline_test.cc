@@ -155,6 +155,42 @@ TEST(Pipeline, RerunSkipsFinishedOutputsAndResumesStages) {
   EXPECT_EQ(ReadFloatMap(depth_path, 1).data, before.data);
 }
 
+// The depth check confirms within the tolerance of the sparse model's reprojection error
+// (colmap_ext/plan/depth_check_tolerance.h): a model that says the poses are off keeps more
+// depths. A rerun after the model changed computes the depth check again and resumes the
+// stages before it.
+TEST(Pipeline, DepthCheckWidensWithTheSparseModelsReprojectionError) {
+  test::TempDir tmp;
+  test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
+  const std::string sparse = tmp.path() + "/sparse";
+  auto set_errors = [&](double error_px) {
+    SparseModel model = ReadSparseModel(sparse);
+    for (SparsePoint3D& point : model.points) point.error = error_px;
+    WriteSparseModelBinary(model, sparse);
+  };
+  auto written_depths = [&]() {
+    const DenseWorkspace ws = LoadDenseWorkspace(tmp.path(), -1);
+    size_t n = 0;
+    for (size_t v = 0; v < ws.views.size(); ++v) {
+      for (float z : ReadFloatMap(ws.DepthMapPath(v, "geometric"), 1).data) n += z > 0;
+    }
+    return n;
+  };
+  MpPatchMatchRun run;
+  run.workspace_path = tmp.path();
+  run.options.keep_states = true;
+  set_errors(0.01);  // 1 %
+  RunMpPatchMatchStereo(run);
+  const size_t exact = written_depths();
+  set_errors(1000);  // the widest tolerance, 100 %: a source's depth is enough
+  const MpPatchMatchSummary wide = RunMpPatchMatchStereo(run);
+  EXPECT_EQ(wide.num_written, 3);
+  for (const StageSummary& s : wide.stages) {
+    EXPECT_EQ(s.images_computed, s.name == "depth_check" ? 3 : 0) << s.name;
+  }
+  EXPECT_GT(written_depths(), exact);
+}
+
 // write_consistency_graph: every pixel with a depth has a record naming source views (the
 // geometric graph: those whose results confirm its depth, so at least depth_check_views),
 // also when the maps are written again from the states of a finished run.

@@ -16,36 +16,33 @@
 namespace mpmvs {
 namespace {
 
-// Two images of one camera and points whose reprojection errors are errors_px.
-SparseModel ModelWithErrors(int model_id, std::vector<double> params, const std::vector<double>& errors_px) {
-  SparseModel model;
-  SparseCamera camera;
-  camera.camera_id = 1;
-  camera.model_id = model_id;
-  camera.width = 640;
-  camera.height = 480;
-  camera.params = std::move(params);
-  model.cameras.push_back(camera);
-  for (uint32_t id : {1u, 2u}) {
-    SparseImage image;
-    image.image_id = id;
-    image.camera_id = 1;
-    image.name = "view_" + std::to_string(id) + ".png";
-    model.images.push_back(image);
+// Two 640x480 views with focal lengths fx, fy (after max_image_size scaling by `scale`) and
+// sparse points whose reprojection errors (model pixels) are errors_px.
+DenseWorkspace WorkspaceWithErrors(double fx, double fy, const std::vector<double>& errors_px, double scale = 1) {
+  DenseWorkspace workspace;
+  for (int i = 0; i < 2; ++i) {
+    DenseView view;
+    view.original_width = 640;
+    view.original_height = 480;
+    view.width = static_cast<int>(640 * scale);
+    view.height = static_cast<int>(480 * scale);
+    view.K[0] = fx * scale;
+    view.K[4] = fy * scale;
+    view.K[8] = 1;
+    workspace.views.push_back(view);
   }
   for (size_t i = 0; i < errors_px.size(); ++i) {
     SparsePoint3D point;
     point.point3D_id = i + 1;
     point.error = errors_px[i];
-    model.points.push_back(point);
+    workspace.model.points.push_back(point);
   }
-  return model;
+  return workspace;
 }
 
 TEST(DepthCheckTolerance, OnePercentWherePosesAreExact) {
   // 0.5 px at f = 500: 1 mrad, 0.5 % by the rule: the check keeps COLMAP's 1 %.
-  const DepthCheckTolerance exact =
-      DepthCheckToleranceOf(ModelWithErrors(kPinholeModelId, {500, 500, 320, 240}, {0.4, 0.6}));
+  const DepthCheckTolerance exact = DepthCheckToleranceOf(WorkspaceWithErrors(500, 500, {0.4, 0.6}));
   EXPECT_EQ(exact.relative, kDepthCheckBaseTolerance);
   EXPECT_NEAR(exact.mean_error_px, 0.5, 1e-12);
   EXPECT_NEAR(exact.mean_error_rad, 0.001, 1e-12);
@@ -53,29 +50,27 @@ TEST(DepthCheckTolerance, OnePercentWherePosesAreExact) {
 
 TEST(DepthCheckTolerance, WiderWithTheMeanReprojectionErrorOverTheFocalLength) {
   // 2 px at fx = 400, fy = 600 (mean 500): 4 mrad, 2 %.
-  const DepthCheckTolerance pinhole =
-      DepthCheckToleranceOf(ModelWithErrors(kPinholeModelId, {400, 600, 320, 240}, {1.0, 3.0}));
-  EXPECT_NEAR(pinhole.relative, 0.02, 1e-6);
-  EXPECT_NEAR(pinhole.mean_error_rad, 0.004, 1e-12);
-  // SIMPLE_PINHOLE's one focal length: 3 px at f = 500, 3 %.
-  const DepthCheckTolerance simple =
-      DepthCheckToleranceOf(ModelWithErrors(kSimplePinholeModelId, {500, 320, 240}, {3.0}));
-  EXPECT_NEAR(simple.relative, 0.03, 1e-6);
+  const DepthCheckTolerance wide = DepthCheckToleranceOf(WorkspaceWithErrors(400, 600, {1.0, 3.0}));
+  EXPECT_NEAR(wide.relative, 0.02, 1e-6);
+  EXPECT_NEAR(wide.mean_error_rad, 0.004, 1e-12);
   // Twice the error at twice the focal length is the same angle.
-  EXPECT_NEAR(DepthCheckToleranceOf(ModelWithErrors(kSimplePinholeModelId, {1000, 320, 240}, {6.0})).relative,
-              simple.relative, 1e-6);
+  EXPECT_NEAR(DepthCheckToleranceOf(WorkspaceWithErrors(800, 1200, {2.0, 6.0})).relative, wide.relative, 1e-6);
+  // The errors are in the model's pixels: max_image_size's scaling of the views changes nothing.
+  EXPECT_NEAR(DepthCheckToleranceOf(WorkspaceWithErrors(400, 600, {1.0, 3.0}, 0.5)).relative, wide.relative, 1e-6);
+  // At most 100 %: the check then keeps every depth a source holds.
+  EXPECT_EQ(DepthCheckToleranceOf(WorkspaceWithErrors(500, 500, {1e6})).relative, 1.f);
 }
 
-TEST(DepthCheckTolerance, OnePercentWithoutPointsOrWithUnreadableErrors) {
-  EXPECT_EQ(DepthCheckToleranceOf(ModelWithErrors(kPinholeModelId, {500, 500, 320, 240}, {})).relative,
-            kDepthCheckBaseTolerance);
+TEST(DepthCheckTolerance, PointsWithoutAnErrorAreLeftOut) {
+  // COLMAP writes -1 for a point without an error; inf and NaN are not errors either.
   const double inf = std::numeric_limits<double>::infinity();
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (double bad : {inf, nan, -5.0}) {
-    EXPECT_EQ(DepthCheckToleranceOf(ModelWithErrors(kPinholeModelId, {500, 500, 320, 240}, {1.0, bad})).relative,
-              kDepthCheckBaseTolerance)
+  for (double bad : {-1.0, inf, nan}) {
+    EXPECT_NEAR(DepthCheckToleranceOf(WorkspaceWithErrors(500, 500, {2.0, bad})).relative, 0.02, 1e-6) << bad;
+    EXPECT_EQ(DepthCheckToleranceOf(WorkspaceWithErrors(500, 500, {bad})).relative, kDepthCheckBaseTolerance)
         << bad;
   }
+  EXPECT_EQ(DepthCheckToleranceOf(WorkspaceWithErrors(500, 500, {})).relative, kDepthCheckBaseTolerance);
 }
 
 // The reference problems of a workspace carry its model's tolerance.
@@ -95,8 +90,8 @@ TEST(DepthCheckTolerance, EveryReferenceProblemCarriesTheModelsTolerance) {
   };
   SparseModel model = ReadSparseModel(sparse);
   ASSERT_FALSE(model.points.empty());
-  ASSERT_FALSE(model.cameras.empty());
-  const double focal = model.cameras[0].params[0];
+  const DenseView& view = io.Load(tmp / "ws", -1).views[0];
+  const double focal = 0.5 * (view.K[0] + view.K[4]);  // every view has the same camera
   for (SparsePoint3D& point : model.points) point.error = 0.1;
   WriteSparseModelBinary(model, sparse);
   EXPECT_EQ(tolerances(), std::vector<float>(3, kDepthCheckBaseTolerance));

@@ -50,10 +50,10 @@ TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
   EXPECT_NE(*store.PlainWindows(0, 0), *store.PlainWindows(0, 1));
 }
 
-// A state made with another depth check tolerance (the sparse model's poses changed) is not
-// resumed; one made with the same is. Exactly posed models keep 1 %, which leaves the states
-// of earlier builds valid.
-TEST(StageStore, AStateOfAnotherDepthCheckToleranceIsNotResumed) {
+// The depth check's results made with another tolerance (the sparse model's poses changed)
+// are not resumed; those made with the same are, and so are every other stage's, which do not
+// depend on it.
+TEST(StageStore, OnlyTheDepthChecksStateDependsOnItsTolerance) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
   MpMvsWorkspaceIo io;
@@ -61,6 +61,7 @@ TEST(StageStore, AStateOfAnotherDepthCheckToleranceIsNotResumed) {
   const PatchMatchStereoOptions colmap_options;
   const MpMvsOptions options;
   const RunPlan plan = MakeRunPlan(colmap_options, options, false);
+  ASSERT_EQ(plan.pipeline.stages.back().name, "depth_check");
   std::vector<ReferenceProblem> problems =
       LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
   ASSERT_FALSE(problems.empty());
@@ -81,12 +82,16 @@ TEST(StageStore, AStateOfAnotherDepthCheckToleranceIsNotResumed) {
   state.geo_error.assign(n, 0.f);
   state.view_mask.assign(n, 1u);
   CreateDirectories(workspace.IntermediateDir());
-  store_with(kDepthCheckBaseTolerance)->WriteState(p.ref, "geometric3", state);
-  EXPECT_TRUE(store_with(kDepthCheckBaseTolerance)->HasState(p.ref, "geometric3"));
-  EXPECT_FALSE(store_with(0.02f)->HasState(p.ref, "geometric3"));
-  store_with(0.02f)->WriteState(p.ref, "geometric3", state);
+  for (const char* stage : {"geometric3", "depth_check"}) {
+    store_with(kDepthCheckBaseTolerance)->WriteState(p.ref, stage, state);
+  }
+  EXPECT_TRUE(store_with(kDepthCheckBaseTolerance)->HasState(p.ref, "depth_check"));
+  EXPECT_FALSE(store_with(0.02f)->HasState(p.ref, "depth_check"));
   EXPECT_TRUE(store_with(0.02f)->HasState(p.ref, "geometric3"));
-  EXPECT_FALSE(store_with(0.03f)->HasState(p.ref, "geometric3"));
+  store_with(0.02f)->WriteState(p.ref, "depth_check", state);
+  EXPECT_TRUE(store_with(0.02f)->HasState(p.ref, "depth_check"));
+  EXPECT_FALSE(store_with(0.03f)->HasState(p.ref, "depth_check"));
+  EXPECT_TRUE(store_with(0.03f)->HasState(p.ref, "geometric3"));
 }
 
 }  // namespace
