@@ -1,8 +1,10 @@
 #include "colmap_ext/native/colmap_workspace_io.h"
 
 #include <algorithm>
+#include <array>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -118,6 +120,19 @@ class ColmapWorkspaceIo : public WorkspaceIo {
       sparse_image.name = dense.views.back().name;
       dense.model.images.push_back(std::move(sparse_image));
     }
+    // mvs::Model keeps no reprojection errors, which the depth check's tolerance reads
+    // (plan/depth_check_tolerance.h): take them from the model files as colmap-mp reads them,
+    // matched by position (mvs::Model's float coordinates).
+    std::map<std::array<float, 3>, double> point_errors;
+    try {
+      for (const SparsePoint3D& point : ReadSparseModel(sparse_dir).points) {
+        point_errors[{static_cast<float>(point.xyz[0]), static_cast<float>(point.xyz[1]),
+                      static_cast<float>(point.xyz[2])}] = point.error;
+      }
+    } catch (const Error& e) {
+      LogWarning(std::string(e.what()) + ": without the sparse points' reprojection errors the depth check "
+                 "confirms within 1 %");
+    }
     dense.model.points.reserve(model.points.size());
     for (size_t p = 0; p < model.points.size(); ++p) {
       const colmap::mvs::Model::Point& point = model.points[p];
@@ -126,6 +141,8 @@ class ColmapWorkspaceIo : public WorkspaceIo {
       sparse_point.xyz[0] = point.x;
       sparse_point.xyz[1] = point.y;
       sparse_point.xyz[2] = point.z;
+      const auto error = point_errors.find({point.x, point.y, point.z});
+      sparse_point.error = error != point_errors.end() ? error->second : -1;  // -1: none, left out
       for (const int image_idx : point.track) {
         sparse_point.track.push_back({static_cast<uint32_t>(image_idx + 1), 0});
       }

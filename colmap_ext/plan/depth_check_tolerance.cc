@@ -11,8 +11,9 @@ DepthCheckTolerance DepthCheckToleranceOf(const DenseWorkspace& workspace) {
   double focal_sum = 0;
   int focal_count = 0;
   for (const DenseView& view : workspace.views) {
-    if (view.width <= 0) continue;
-    const double focal = 0.5 * (view.K[0] + view.K[4]) * view.original_width / view.width;
+    if (view.width <= 0 || view.height <= 0) continue;
+    const double focal = 0.5 * (view.K[0] * view.original_width / view.width +
+                                view.K[4] * view.original_height / view.height);
     if (!(focal > 0) || !std::isfinite(focal)) continue;
     focal_sum += focal;
     ++focal_count;

@@ -24,7 +24,13 @@ ResultFingerprint MakeResultFingerprint(const PatchMatchStereoOptions& colmap_op
   for (const ReferenceProblem& p : problems) {
     char range[64];
     std::snprintf(range, sizeof(range), " %.9g %.9g", p.depth_min, p.depth_max);
-    fingerprint.problems += workspace.views[p.ref].name + range + " :";
+    fingerprint.problems += workspace.views[p.ref].name + range;
+    // A widened depth check tolerance (exactly posed models keep the tags of earlier builds).
+    if (p.depth_check_tolerance != kDepthCheckBaseTolerance) {
+      std::snprintf(range, sizeof(range), " tolerance %.9g", p.depth_check_tolerance);
+      fingerprint.problems += range;
+    }
+    fingerprint.problems += " :";
     for (int src : p.src) fingerprint.problems += " " + workspace.views[src].name;
     fingerprint.problems += "\n";
   }

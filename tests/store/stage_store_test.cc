@@ -92,6 +92,13 @@ TEST(StageStore, OnlyTheDepthChecksStateDependsOnItsTolerance) {
   EXPECT_TRUE(store_with(0.02f)->HasState(p.ref, "depth_check"));
   EXPECT_FALSE(store_with(0.03f)->HasState(p.ref, "depth_check"));
   EXPECT_TRUE(store_with(0.03f)->HasState(p.ref, "geometric3"));
+  // Runs that share the workspace at once must agree on it too (work_claims.h).
+  auto tag_with = [&](float tolerance) {
+    for (ReferenceProblem& q : problems) q.depth_check_tolerance = tolerance;
+    return MakeResultFingerprint(colmap_options, options, workspace, problems).RunTag();
+  };
+  EXPECT_NE(tag_with(0.02f), tag_with(kDepthCheckBaseTolerance));
+  EXPECT_EQ(tag_with(0.02f), tag_with(0.02f));
 }
 
 }  // namespace
