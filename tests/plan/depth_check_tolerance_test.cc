@@ -90,7 +90,8 @@ TEST(DepthCheckTolerance, EveryReferenceProblemCarriesTheModelsTolerance) {
   };
   SparseModel model = ReadSparseModel(sparse);
   ASSERT_FALSE(model.points.empty());
-  const DenseView& view = io.Load(tmp / "ws", -1).views[0];
+  const DenseWorkspace loaded = io.Load(tmp / "ws", -1);
+  const DenseView& view = loaded.views[0];
   const double focal = 0.5 * (view.K[0] + view.K[4]);  // every view has the same camera
   for (SparsePoint3D& point : model.points) point.error = 0.1;
   WriteSparseModelBinary(model, sparse);
