@@ -17,24 +17,39 @@
 namespace mpmvs {
 namespace {
 
-// The prior's plain-window masks and noise variances: the same as computing them afresh
-// from the view's image, and computed once (the second request gets the same object).
-TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
+// The small plane scene (3 views, 96x72) with the default run plan and its reference
+// problems; Store() makes a StageStore of the problems as they are then.
+struct PlaneSceneRun {
   test::TempDir tmp;
-  test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
   MpMvsWorkspaceIo io;
-  const DenseWorkspace workspace = io.Load(tmp / "ws", -1);
+  DenseWorkspace workspace;
   const PatchMatchStereoOptions colmap_options;
   const MpMvsOptions options;
   const RunPlan plan = MakeRunPlan(colmap_options, options, false);
-  const std::vector<ReferenceProblem> problems =
-      LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
-  ASSERT_EQ(problems.size(), 3u);
-  StageStore store(workspace, &io, plan, problems,
-                   MakeResultFingerprint(colmap_options, options, workspace, problems));
+  std::vector<ReferenceProblem> problems;
+
+  PlaneSceneRun() {
+    test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
+    workspace = io.Load(tmp / "ws", -1);
+    problems = LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
+  }
+  std::unique_ptr<StageStore> Store() {
+    return std::make_unique<StageStore>(workspace, &io, plan, problems,
+                                        MakeResultFingerprint(colmap_options, options, workspace, problems));
+  }
+};
+
+// The prior's plain-window masks and noise variances: the same as computing them afresh
+// from the view's image, and computed once (the second request gets the same object).
+TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
+  PlaneSceneRun run;
+  ASSERT_EQ(run.problems.size(), 3u);
+  const std::unique_ptr<StageStore> made = run.Store();
+  StageStore& store = *made;
+  const DenseWorkspace& workspace = run.workspace;
 
   for (int view = 0; view < 3; ++view) {
-    const GrayImage image = io.ReadGray(workspace, view);
+    const GrayImage image = run.io.ReadGray(workspace, view);
     const float noise = EstimateNoiseVariance(image);
     EXPECT_EQ(store.NoiseVariance(view), noise) << view;
     const kernels::ImageView grey{image.data.data(), image.width, image.height};
@@ -54,23 +69,18 @@ TEST(StageStore, PlainWindowMasksAreThoseOfTheImageAndComputedOnce) {
 // are not resumed; those made with the same are, and so are every other stage's, which do not
 // depend on it.
 TEST(StageStore, OnlyTheDepthChecksStateDependsOnItsTolerance) {
-  test::TempDir tmp;
-  test::WriteSmallPlaneScene(tmp / "ws", 96, 72, 3);
-  MpMvsWorkspaceIo io;
-  const DenseWorkspace workspace = io.Load(tmp / "ws", -1);
-  const PatchMatchStereoOptions colmap_options;
-  const MpMvsOptions options;
-  const RunPlan plan = MakeRunPlan(colmap_options, options, false);
-  ASSERT_EQ(plan.pipeline.stages.back().name, "depth_check");
-  std::vector<ReferenceProblem> problems =
-      LoadReferenceProblems(workspace, "", colmap_options, plan.sources_per_reference).runnable;
-  ASSERT_FALSE(problems.empty());
-  auto store_with = [&](float tolerance) {
-    for (ReferenceProblem& p : problems) p.depth_check_tolerance = tolerance;
-    return std::make_unique<StageStore>(workspace, &io, plan, problems,
-                                        MakeResultFingerprint(colmap_options, options, workspace, problems));
+  PlaneSceneRun run;
+  ASSERT_EQ(run.plan.pipeline.stages.back().name, "depth_check");
+  ASSERT_FALSE(run.problems.empty());
+  const DenseWorkspace& workspace = run.workspace;
+  auto set_tolerance = [&](float tolerance) {
+    for (ReferenceProblem& q : run.problems) q.depth_check_tolerance = tolerance;
   };
-  const ReferenceProblem& p = problems[0];
+  auto store_with = [&](float tolerance) {
+    set_tolerance(tolerance);
+    return run.Store();
+  };
+  const ReferenceProblem& p = run.problems[0];
   kernels::PatchMatchResult state;
   state.width = workspace.views[p.ref].width;
   state.height = workspace.views[p.ref].height;
@@ -94,8 +104,8 @@ TEST(StageStore, OnlyTheDepthChecksStateDependsOnItsTolerance) {
   EXPECT_TRUE(store_with(0.03f)->HasState(p.ref, "geometric3"));
   // Runs that share the workspace at once must agree on it too (work_claims.h).
   auto tag_with = [&](float tolerance) {
-    for (ReferenceProblem& q : problems) q.depth_check_tolerance = tolerance;
-    return MakeResultFingerprint(colmap_options, options, workspace, problems).RunTag();
+    set_tolerance(tolerance);
+    return MakeResultFingerprint(run.colmap_options, run.options, workspace, run.problems).RunTag();
   };
   EXPECT_NE(tag_with(0.02f), tag_with(kDepthCheckBaseTolerance));
   EXPECT_EQ(tag_with(0.02f), tag_with(0.02f));
