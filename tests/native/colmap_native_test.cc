@@ -15,10 +15,12 @@
 #include "colmap/mvs/model.h"
 #include "colmap_ext/io/dense_workspace.h"
 #include "colmap_ext/io/image_io.h"
+#include "colmap_ext/io/sparse_model.h"
 #include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/native/colmap_workspace_io.h"
 #include "colmap_ext/native/mp_patch_match_stereo_native.h"
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
+#include "colmap_ext/plan/depth_check_tolerance.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
 
 namespace mpmvs {
@@ -66,6 +68,43 @@ void MakeGreyScene(const std::string& dir) {
   }
 }
 
+// Every sparse point's reprojection error set to error_px, as a model of less exact poses has.
+void SetPointErrors(const std::string& dir, double error_px) {
+  SparseModel model = ReadSparseModel(dir + "/sparse");
+  for (SparsePoint3D& point : model.points) point.error = error_px;
+  WriteSparseModelBinary(model, dir + "/sparse");
+}
+
+// Runs colmap-mp on <tmp>/ours and the native command on a copy, <tmp>/colmap, and expects
+// byte-equal maps and consistency graphs.
+void ExpectBothFrontEndsWriteTheSameMaps(const TempFolder& tmp) {
+  fs::copy(tmp / "ours", tmp / "colmap", fs::copy_options::recursive);
+  MpPatchMatchRun run;
+  run.colmap_options.write_consistency_graph = true;
+  run.options.write_pictures = "none";
+  run.workspace_path = tmp / "ours";
+  const MpPatchMatchSummary sa = RunMpPatchMatchStereo(run);
+  // The native command as COLMAP's command table calls it (argv[0] = program).
+  std::vector<std::string> args = {"colmap", "--workspace_path", tmp / "colmap",
+                                   "--PatchMatchStereo.write_consistency_graph", "1",
+                                   "--MPMVS.write_pictures", "none"};
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  ASSERT_EQ(RunColmapMpPatchMatchStereo(static_cast<int>(argv.size()), argv.data()), EXIT_SUCCESS);
+  EXPECT_EQ(sa.num_written, 3);
+  int compared = 0;
+  for (const char* sub : {"depth_maps", "normal_maps", "consistency_graphs"}) {
+    for (const auto& entry : fs::directory_iterator(tmp / ("ours/stereo/" + std::string(sub)))) {
+      const std::string name = entry.path().filename().string();
+      const std::string other = tmp / ("colmap/stereo/" + std::string(sub) + "/" + name);
+      ASSERT_TRUE(fs::exists(other)) << other;
+      EXPECT_TRUE(Bytes(entry.path().string()) == Bytes(other)) << sub << "/" << name;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 3 * 2 * 3);  // 3 images x {photometric, geometric} x 3 kinds
+}
+
 TEST(ColmapNative, LoadsTheSameViewsCamerasAndDepthRanges) {
   TempFolder tmp;
   MakeGreyScene(tmp / "ws");
@@ -101,31 +140,23 @@ TEST(ColmapNative, LoadsTheSameViewsCamerasAndDepthRanges) {
 TEST(ColmapNative, MapsAreByteEqualToColmapMp) {
   TempFolder tmp;
   MakeGreyScene(tmp / "ours");
-  fs::copy(tmp / "ours", tmp / "colmap", fs::copy_options::recursive);
-  MpPatchMatchRun run;
-  run.colmap_options.write_consistency_graph = true;
-  run.options.write_pictures = "none";
-  run.workspace_path = tmp / "ours";
-  const MpPatchMatchSummary sa = RunMpPatchMatchStereo(run);
-  // The native command as COLMAP's command table calls it (argv[0] = program).
-  std::vector<std::string> args = {"colmap", "--workspace_path", tmp / "colmap",
-                                   "--PatchMatchStereo.write_consistency_graph", "1",
-                                   "--MPMVS.write_pictures", "none"};
-  std::vector<char*> argv;
-  for (std::string& arg : args) argv.push_back(arg.data());
-  ASSERT_EQ(RunColmapMpPatchMatchStereo(static_cast<int>(argv.size()), argv.data()), EXIT_SUCCESS);
-  EXPECT_EQ(sa.num_written, 3);
-  int compared = 0;
-  for (const char* sub : {"depth_maps", "normal_maps", "consistency_graphs"}) {
-    for (const auto& entry : fs::directory_iterator(tmp / ("ours/stereo/" + std::string(sub)))) {
-      const std::string name = entry.path().filename().string();
-      const std::string other = tmp / ("colmap/stereo/" + std::string(sub) + "/" + name);
-      ASSERT_TRUE(fs::exists(other)) << other;
-      EXPECT_TRUE(Bytes(entry.path().string()) == Bytes(other)) << sub << "/" << name;
-      ++compared;
-    }
-  }
-  EXPECT_EQ(compared, 3 * 2 * 3);  // 3 images x {photometric, geometric} x 3 kinds
+  ExpectBothFrontEndsWriteTheSameMaps(tmp);
+}
+
+// mvs::Model keeps no reprojection errors; the native loader takes them from the model files,
+// so a model of less exact poses widens the depth check alike in both front ends.
+TEST(ColmapNative, ReadsThePointsReprojectionErrorsLikeColmapMp) {
+  TempFolder tmp;
+  MakeGreyScene(tmp / "ours");
+  SetPointErrors(tmp / "ours", 2.5);
+  const DenseWorkspace a = MpMvsWorkspaceIo().Load(tmp / "ours", -1);
+  const DenseWorkspace b = MakeColmapWorkspaceIo()->Load(tmp / "ours", -1);
+  ASSERT_EQ(a.model.points.size(), b.model.points.size());
+  for (const SparsePoint3D& point : b.model.points) EXPECT_EQ(point.error, 2.5);
+  const DepthCheckTolerance ta = DepthCheckToleranceOf(a);
+  EXPECT_GT(ta.relative, 0.02f);
+  EXPECT_EQ(ta.relative, DepthCheckToleranceOf(b).relative);
+  ExpectBothFrontEndsWriteTheSameMaps(tmp);
 }
 
 }  // namespace
