@@ -146,5 +146,15 @@ inline void ExpectModelsEqual(const SparseModel& a, const SparseModel& b) {
   }
 }
 
+// Rewrites the sparse model in dir (binary and text files) with point i's reprojection error
+// set to error_of(i): the errors of a model of more or less exact poses.
+template <typename ErrorOf>
+inline void SetSparsePointErrors(const std::string& dir, ErrorOf error_of) {
+  SparseModel model = ReadSparseModel(dir);
+  for (size_t i = 0; i < model.points.size(); ++i) model.points[i].error = error_of(i);
+  WriteSparseModelBinary(model, dir);
+  WriteSparseModelText(model, dir);
+}
+
 }  // namespace test
 }  // namespace mpmvs

@@ -26,6 +26,7 @@
 #include "colmap_ext/pipeline/mp_patch_match_stereo.h"
 #include "colmap_ext/plan/depth_check_tolerance.h"
 #include "colmap_ext/synthetic/synthetic_scene.h"
+#include "tests/io_test_util.h"
 
 namespace mpmvs {
 namespace {
@@ -70,15 +71,6 @@ void MakeGreyScene(const std::string& dir) {
     std::vector<uint8_t> bytes(gray.data.begin(), gray.data.end());
     WriteGrayPng(entry.path().string(), gray.width, gray.height, bytes);
   }
-}
-
-// Gives the sparse points reprojection errors of a model of less exact poses, a different
-// one each (2 to 3 px), in both the binary and the text files.
-void SetPointErrors(const std::string& dir) {
-  SparseModel model = ReadSparseModel(dir + "/sparse");
-  for (size_t i = 0; i < model.points.size(); ++i) model.points[i].error = 2.0 + static_cast<double>(i % 100) / 100;
-  WriteSparseModelBinary(model, dir + "/sparse");
-  WriteSparseModelText(model, dir + "/sparse");
 }
 
 // Each point's position (as float, mvs::Model's precision) and error, sorted.
@@ -167,7 +159,8 @@ TEST(ColmapNative, MapsAreByteEqualToColmapMp) {
 TEST(ColmapNative, ReadsThePointsReprojectionErrorsLikeColmapMp) {
   TempFolder tmp;
   MakeGreyScene(tmp / "ours");
-  SetPointErrors(tmp / "ours");
+  // Less exact poses, a different error for each point (2 to 3 px).
+  test::SetSparsePointErrors(tmp / "ours/sparse", [](size_t i) { return 2.0 + static_cast<double>(i % 100) / 100; });
   const DenseWorkspace a = MpMvsWorkspaceIo().Load(tmp / "ours", -1);
   const DenseWorkspace b = MakeColmapWorkspaceIo()->Load(tmp / "ours", -1);
   ASSERT_GT(a.model.points.size(), 10u);

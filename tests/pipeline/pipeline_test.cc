@@ -163,11 +163,7 @@ TEST(Pipeline, DepthCheckWidensWithTheSparseModelsReprojectionError) {
   test::TempDir tmp;
   test::WriteSmallPlaneScene(tmp.path(), 96, 72, 3);
   const std::string sparse = tmp.path() + "/sparse";
-  auto set_errors = [&](double error_px) {
-    SparseModel model = ReadSparseModel(sparse);
-    for (SparsePoint3D& point : model.points) point.error = error_px;
-    WriteSparseModelBinary(model, sparse);
-  };
+  auto set_errors = [&](double error_px) { test::SetSparsePointErrors(sparse, [=](size_t) { return error_px; }); };
   auto written_depths = [&]() {
     const DenseWorkspace ws = LoadDenseWorkspace(tmp.path(), -1);
     size_t n = 0;

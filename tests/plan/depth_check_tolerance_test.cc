@@ -11,6 +11,7 @@
 #include "colmap_ext/io/workspace_io.h"
 #include "colmap_ext/plan/depth_check_tolerance.h"
 #include "colmap_ext/plan/reference_problems.h"
+#include "tests/io_test_util.h"
 #include "tests/test_util.h"
 
 namespace mpmvs {
@@ -88,17 +89,14 @@ TEST(DepthCheckTolerance, EveryReferenceProblemCarriesTheModelsTolerance) {
     }
     return out;
   };
-  SparseModel model = ReadSparseModel(sparse);
-  ASSERT_FALSE(model.points.empty());
+  ASSERT_FALSE(ReadSparseModel(sparse).points.empty());
   const DenseWorkspace loaded = io.Load(tmp / "ws", -1);
   const DenseView& view = loaded.views[0];
   const double focal = 0.5 * (view.K[0] + view.K[4]);  // every view has the same camera
-  for (SparsePoint3D& point : model.points) point.error = 0.1;
-  WriteSparseModelBinary(model, sparse);
+  test::SetSparsePointErrors(sparse, [](size_t) { return 0.1; });
   EXPECT_EQ(tolerances(), std::vector<float>(3, kDepthCheckBaseTolerance));
   // An error of 6 mrad: 3 %.
-  for (SparsePoint3D& point : model.points) point.error = 0.006 * focal;
-  WriteSparseModelBinary(model, sparse);
+  test::SetSparsePointErrors(sparse, [=](size_t) { return 0.006 * focal; });
   const std::vector<float> wide = tolerances();
   ASSERT_EQ(wide.size(), 3u);
   for (float t : wide) EXPECT_NEAR(t, 0.03f, 1e-4f);
