@@ -43,6 +43,16 @@ po::parsed_options ParseProjectFile(const std::string& path, const po::options_d
   }
 }
 
+// A finite number, the whole text (no spaces).
+bool ParseNumber(const std::string& text, double* value) {
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno != 0 || !std::isfinite(v)) return false;
+  *value = v;
+  return true;
+}
+
 }  // namespace
 
 bool ParseBool(const std::string& text, bool* value) {
@@ -81,12 +91,23 @@ void OptionParser::Add(const std::string& name, int* value, const std::string& h
 }
 
 void OptionParser::Add(const std::string& name, double* value, const std::string& help) {
-  AddOption(name, {help, "num", FormatNumber(*value), false, false, [value](const std::string& t) {
-                     errno = 0;
-                     char* end = nullptr;
-                     const double v = std::strtod(t.c_str(), &end);
-                     if (t.empty() || *end != '\0' || errno != 0 || !std::isfinite(v)) return false;
-                     *value = v;
+  AddOption(name, {help, "num", FormatNumber(*value), false, false,
+                   [value](const std::string& t) { return ParseNumber(t, value); }});
+}
+
+void OptionParser::Add(const std::string& name, std::vector<double>* value, const std::string& help) {
+  std::string default_text;
+  for (double v : *value) default_text += (default_text.empty() ? "" : ",") + FormatNumber(v);
+  AddOption(name, {help, "num,num,...", default_text, false, false, [value](const std::string& t) {
+                     std::vector<double> numbers;
+                     std::stringstream items(t);
+                     std::string item;
+                     while (std::getline(items, item, ',')) {
+                       numbers.emplace_back();
+                       if (!ParseNumber(item, &numbers.back())) return false;
+                     }
+                     if (numbers.empty() || t.back() == ',') return false;
+                     *value = std::move(numbers);
                      return true;
                    }});
 }

@@ -27,6 +27,8 @@ class OptionParser {
   void Add(const std::string& name, int* value, const std::string& help = "");
   void Add(const std::string& name, double* value, const std::string& help = "");
   void Add(const std::string& name, std::string* value, const std::string& help = "");
+  // Comma-separated numbers ("0.01,0.02"), at least one.
+  void Add(const std::string& name, std::vector<double>* value, const std::string& help = "");
   // Must be given on the command line.
   void AddRequired(const std::string& name, std::string* value, const std::string& help = "");
   // Accepted and ignored with one warning (COLMAP options that describe COLMAP's own

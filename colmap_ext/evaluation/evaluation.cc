@@ -10,6 +10,7 @@
 #include "colmap_ext/io/ply_io.h"
 #include "colmap_ext/util/error.h"
 #include "colmap_ext/util/file_util.h"
+#include "colmap_ext/util/logging.h"
 #include "colmap_ext/util/thread_range.h"
 
 namespace mpmvs {
@@ -203,10 +204,10 @@ void EvaluationOptions::Check() const {
     throw Error("evaluation needs at least one depth and one point-cloud tolerance");
   }
   for (double t : depth_tolerances) {
-    if (!(t > 0 && t < 1)) throw Error("depth tolerances must be in (0, 1)");
+    if (!(t > 0 && t < 1)) throw Error("--depth_tolerances: " + FormatNumber(t) + " is not in (0, 1)");
   }
   for (double t : cloud_tolerances) {
-    if (!(t > 0 && t < 1)) throw Error("point-cloud tolerances must be in (0, 1)");
+    if (!(t > 0 && t < 1)) throw Error("--cloud_tolerances: " + FormatNumber(t) + " is not in (0, 1)");
   }
   if (num_threads == 0 || num_threads < -1) throw Error("num_threads must be -1 or >= 1");
 }

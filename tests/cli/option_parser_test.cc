@@ -107,6 +107,26 @@ TEST(OptionParser, BadNumbersNameTheOption) {
   }
 }
 
+TEST(OptionParser, ListsOfNumbers) {
+  std::vector<double> list = {0.01, 0.02};
+  OptionParser parser;
+  parser.Add("tolerances", &list, "a list");
+  EXPECT_NE(parser.Help().find("0.01,0.02"), std::string::npos) << parser.Help();
+  ASSERT_TRUE(parser.Parse({"--tolerances", "0.005,1e-2,0.05"}));
+  EXPECT_EQ(list, (std::vector<double>{0.005, 0.01, 0.05}));
+  ASSERT_TRUE(parser.Parse({"--tolerances=0.2"}));
+  EXPECT_EQ(list, (std::vector<double>{0.2}));
+  for (const char* bad : {"", ",", "0.01,", ",0.01", "0.01,,0.02", "0.01;0.02", "0.01,x", "0.01,nan", "0.01 ,0.02"}) {
+    try {
+      parser.Parse({"--tolerances", bad});
+      ADD_FAILURE() << "no error for '" << bad << "'";
+    } catch (const Error& error) {
+      EXPECT_EQ(std::string(error.what()), "bad value '" + std::string(bad) + "' for option --tolerances");
+    }
+    EXPECT_EQ(list, (std::vector<double>{0.2}));  // unchanged
+  }
+}
+
 TEST(OptionParser, UnknownOptionListsTheValidOnes) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"--path", "p", "--Section.bogus", "1"},

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "colmap_ext/cli/commands.h"
 #include "colmap_ext/evaluation/evaluation.h"
 #include "colmap_ext/evaluation/evaluation_report.h"
@@ -443,6 +445,54 @@ TEST(Evaluation, EvaluateAndCompareCommands) {
 
   EXPECT_THROW(RunEvaluateCommand({"--workspace_path", dir / "nope"}), Error);
   EXPECT_THROW(RunGenerateSceneCommand({"--scene", "castle", "--output_path", dir / "x"}), Error);
+}
+
+// --depth_tolerances and --cloud_tolerances: maps 3 % too far are wrong at the default
+// tolerances and right at 5 %; the cloud is scored at the distances asked for.
+TEST(Evaluation, EvaluateScoresAtTheTolerancesGiven) {
+  test::TempDir dir;
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), dir.path());
+  InstallGtAsEstimates(dir.path(), scene);
+  for (const SyntheticView& v : scene.views) {
+    const std::string p = dir / ("stereo/depth_maps/" + v.name + ".geometric.bin");
+    FloatMap m = ReadFloatMap(p, 1);
+    for (float& z : m.data) z *= 1.03f;
+    WriteFloatMap(p, m);
+  }
+  fs::copy_file(dir / "gt/gt_points.ply", dir / "fused.ply");
+  const auto scores = [&](const std::vector<std::string>& tolerances) {
+    std::vector<std::string> args = {"--workspace_path", dir.path(), "--output_path", dir / "eval",
+                                     "--pictures", "0"};
+    args.insert(args.end(), tolerances.begin(), tolerances.end());
+    EXPECT_EQ(RunEvaluateCommand(args), 0);
+    return nlohmann::json::parse(test::ReadTextFile(dir / "eval/evaluation.json"))["workspaces"][0];
+  };
+  nlohmann::json w = scores({});
+  ASSERT_EQ(w["depth"]["tolerances"], nlohmann::json({0.01, 0.02}));
+  for (const auto& t : w["depth"]["pooled"]["tolerances"]) EXPECT_EQ(t["f1"], 0.0);
+  ASSERT_EQ(w["point_cloud"]["tolerances"].size(), 2u);
+  EXPECT_EQ(w["point_cloud"]["tolerances"][1]["relative_tolerance"], 0.01);
+
+  w = scores({"--depth_tolerances", "0.01,0.05", "--cloud_tolerances", "0.005,0.02,0.05"});
+  ASSERT_EQ(w["depth"]["tolerances"], nlohmann::json({0.01, 0.05}));
+  const auto& depth = w["depth"]["pooled"]["tolerances"];
+  ASSERT_EQ(depth.size(), 2u);
+  EXPECT_EQ(depth[0]["f1"], 0.0);
+  EXPECT_DOUBLE_EQ(depth[1]["f1"].get<double>(), 1.0);
+  const auto& cloud = w["point_cloud"]["tolerances"];
+  ASSERT_EQ(cloud.size(), 3u);
+  const double median_depth = w["point_cloud"]["median_gt_depth"];
+  EXPECT_EQ(cloud[2]["relative_tolerance"], 0.05);
+  EXPECT_NEAR(cloud[2]["tolerance"].get<double>(), 0.05 * median_depth, 1e-9);
+  EXPECT_DOUBLE_EQ(cloud[2]["f1"].get<double>(), 1.0);  // the GT cloud itself
+
+  // A value out of range names the option.
+  try {
+    RunEvaluateCommand({"--workspace_path", dir.path(), "--cloud_tolerances", "0.01,5"});
+    ADD_FAILURE() << "no error for a tolerance of 5";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "--cloud_tolerances: 5 is not in (0, 1)");
+  }
 }
 
 }  // namespace
