@@ -2,7 +2,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "colmap_ext/cli/command_util.h"
 #include "colmap_ext/cli/commands.h"
@@ -44,10 +43,7 @@ int RunAblationCommand(const std::vector<std::string>& args) {
   for (const std::string& w : parser.Warnings()) LogWarning(w);
   const int sources = !dataset_path.empty() + !scene_name.empty() + !options.workspace_path.empty();
   if (sources != 1) throw Error("give exactly one of --dataset_path, --scene, --workspace_path");
-  std::stringstream ss(rows);
-  for (std::string r; std::getline(ss, r, ',');) {
-    if (!r.empty()) options.rows.push_back(r);
-  }
+  options.rows = SplitList(rows);
   CreateDirectories(options.output_path);
   if (!scene_name.empty()) {
     scene.scene = scene_name;

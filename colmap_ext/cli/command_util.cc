@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <sstream>
 
 namespace mpmvs {
 
@@ -14,18 +13,6 @@ std::string CommandLine(const std::string& command, const std::vector<std::strin
     line += a.find_first_of(" \t\"'") == std::string::npos ? a : "'" + a + "'";
   }
   return line;
-}
-
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const size_t b = item.find_first_not_of(" \t");
-    const size_t e = item.find_last_not_of(" \t");
-    if (b != std::string::npos) items.push_back(item.substr(b, e - b + 1));
-  }
-  return items;
 }
 
 std::string Basename(std::string path) {

@@ -11,9 +11,6 @@ namespace mpmvs {
 // "colmap-mp COMMAND ARGS..." with arguments quoted where needed (for result files).
 std::string CommandLine(const std::string& command, const std::vector<std::string>& args);
 
-// Comma-separated list, items trimmed, empty items dropped.
-std::vector<std::string> SplitList(const std::string& text);
-
 // Last component of a path, trailing slashes ignored.
 std::string Basename(std::string path);
 

@@ -67,6 +67,7 @@ int RunEvaluateCommand(const std::vector<std::string>& args) {
     ShowHelp(parser, "colmap-mp evaluate --workspace_path WS [--gt_path GT] [options]");
     return 0;
   }
+  for (const std::string& w : parser.Warnings()) LogWarning(w);
   options.Check();
   if (gt_path.empty()) {
     gt_path = JoinPaths(workspace_path, "gt");
@@ -111,6 +112,7 @@ int RunCompareCommand(const std::vector<std::string>& args) {
     ShowHelp(parser, "colmap-mp compare --workspace_paths WS1,WS2,... [--gt_path GT] [options]");
     return 0;
   }
+  for (const std::string& w : parser.Warnings()) LogWarning(w);
   options.Check();
   const std::vector<std::string> workspaces = SplitList(workspace_paths);
   if (workspaces.empty()) throw Error("--workspace_paths lists no workspace");

@@ -43,7 +43,7 @@ po::parsed_options ParseProjectFile(const std::string& path, const po::options_d
   }
 }
 
-// A finite number, the whole text (no spaces).
+// A finite number, the whole text (strtod: leading blanks are skipped, trailing ones are not).
 bool ParseNumber(const std::string& text, double* value) {
   errno = 0;
   char* end = nullptr;
@@ -54,6 +54,18 @@ bool ParseNumber(const std::string& text, double* value) {
 }
 
 }  // namespace
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const size_t b = item.find_first_not_of(" \t");
+    const size_t e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) items.push_back(item.substr(b, e - b + 1));
+  }
+  return items;
+}
 
 bool ParseBool(const std::string& text, bool* value) {
   const std::string t = Lower(text);
@@ -100,13 +112,12 @@ void OptionParser::Add(const std::string& name, std::vector<double>* value, cons
   for (double v : *value) default_text += (default_text.empty() ? "" : ",") + FormatNumber(v);
   AddOption(name, {help, "num,num,...", default_text, false, false, [value](const std::string& t) {
                      std::vector<double> numbers;
-                     std::stringstream items(t);
-                     std::string item;
-                     while (std::getline(items, item, ',')) {
-                       numbers.emplace_back();
-                       if (!ParseNumber(item, &numbers.back())) return false;
+                     for (const std::string& item : SplitList(t)) {
+                       double v;
+                       if (!ParseNumber(item, &v)) return false;
+                       numbers.push_back(v);
                      }
-                     if (numbers.empty() || t.back() == ',') return false;
+                     if (numbers.empty()) return false;
                      *value = std::move(numbers);
                      return true;
                    }});

@@ -21,13 +21,16 @@ class basic_parsed_options;
 
 namespace mpmvs {
 
+// Comma-separated list ("a, b,c"), items trimmed, empty items dropped.
+std::vector<std::string> SplitList(const std::string& text);
+
 class OptionParser {
  public:
   void Add(const std::string& name, bool* value, const std::string& help = "");
   void Add(const std::string& name, int* value, const std::string& help = "");
   void Add(const std::string& name, double* value, const std::string& help = "");
   void Add(const std::string& name, std::string* value, const std::string& help = "");
-  // Comma-separated numbers ("0.01,0.02"), at least one.
+  // Comma-separated numbers ("0.01, 0.02"; SplitList), at least one.
   void Add(const std::string& name, std::vector<double>* value, const std::string& help = "");
   // Must be given on the command line.
   void AddRequired(const std::string& name, std::string* value, const std::string& help = "");

@@ -1,12 +1,13 @@
 #pragma once
 // Quality scores against ground truth, exactly as docs/evaluation.md
 // defines them:
-//  * depth maps: per image and pooled, at relative tolerances tau (1 %, 2 %):
+//  * depth maps: per image and pooled, at relative tolerances tau (by default 1 %, 2 %):
 //    accuracy = good / (GT pixels with an estimate), completeness = good / GT pixels,
 //    F1; again on untextured pixels where gt/untextured_<stem>.png exists;
 //  * point cloud (ETH3D style): GT cloud = every valid GT pixel of every GT image
 //    back-projected; accuracy over fused points that project onto valid GT in at least
-//    one GT image, completeness over GT points, at 0.5 % and 1 % of the median GT depth.
+//    one GT image, completeness over GT points, at fractions of the median GT depth (by
+//    default 0.5 % and 1 %).
 // Also the mutual agreement of several workspaces' depth maps where no GT exists.
 #include <cstdint>
 #include <limits>

@@ -40,12 +40,17 @@ std::string Shorten(const std::string& s, size_t width) {
   return s.size() <= width ? s : "..." + s.substr(s.size() - (width - 3));
 }
 
+// Width of each of a tolerance's three columns: 8, wider where its name needs it ("comp@0.5%").
+size_t ScoreColumnWidth(double tolerance) {
+  return std::max<size_t>(8, ("comp@" + TolName(tolerance)).size() + 1);
+}
+
 // "12.3 45.6 51.2" for acc, comp, F1 at each tolerance.
 std::string ScoreCells(const DepthPixelScore& s) {
   std::string out;
   for (const DepthScoreAtTolerance& t : s.at) {
-    out += PadLeft(Percent(t.accuracy), 8) + PadLeft(Percent(t.completeness), 8) +
-           PadLeft(Percent(t.f1), 8);
+    const size_t w = ScoreColumnWidth(t.tolerance);
+    out += PadLeft(Percent(t.accuracy), w) + PadLeft(Percent(t.completeness), w) + PadLeft(Percent(t.f1), w);
   }
   return out;
 }
@@ -108,8 +113,8 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
          ": " + std::to_string(d.images.size()) + " images with GT\n";
   std::string header = PadRight("image", 23) + PadLeft("GT px", 9) + PadLeft("est%", 7);
   for (double t : d.tolerances) {
-    header += PadLeft("acc@" + TolName(t), 8) + PadLeft("comp@" + TolName(t), 8) +
-              PadLeft("F1@" + TolName(t), 8);
+    const size_t w = ScoreColumnWidth(t);
+    header += PadLeft("acc@" + TolName(t), w) + PadLeft("comp@" + TolName(t), w) + PadLeft("F1@" + TolName(t), w);
   }
   header += PadLeft("med.err%", 9);
   out += header + "\n" + std::string(header.size(), '-') + "\n";
@@ -131,14 +136,15 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
   if (!d.surface_names.empty() && !d.tolerances.empty()) {
     // Where each surface's GT pixels end: the sign of the error says what went wrong.
     const std::string tol = TolName(d.tolerances[0]);
-    out += "\n" + PadRight("surface (pooled)", 23) + PadLeft("GT px", 9) + PadLeft("within " + tol, 11) +
+    const size_t within_width = std::max<size_t>(11, tol.size() + 8);
+    out += "\n" + PadRight("surface (pooled)", 23) + PadLeft("GT px", 9) + PadLeft("within " + tol, within_width) +
            PadLeft("too near", 10) + PadLeft("too far", 9) + PadLeft("no depth", 10) + "\n";
     for (size_t k = 0; k < d.surface_names.size(); ++k) {
       const DepthPixelScore& s = d.pooled_surfaces[k];
       if (s.num_gt == 0) continue;
       auto share = [&](int64_t n) { return Percent(static_cast<double>(n) / s.num_gt); };
       out += PadRight(Shorten(d.surface_names[k], 22), 23) + PadLeft(std::to_string(s.num_gt), 9) +
-             PadLeft(share(s.at.empty() ? 0 : s.at[0].num_good), 11) + PadLeft(share(s.num_too_near), 10) +
+             PadLeft(share(s.at.empty() ? 0 : s.at[0].num_good), within_width) + PadLeft(share(s.num_too_near), 10) +
              PadLeft(share(s.num_too_far), 9) + PadLeft(share(s.num_gt - s.num_estimated), 10) + "\n";
     }
     out += "(percent of the surface's GT pixels; too near / too far: off by " + tol + " or more)\n";

@@ -114,9 +114,11 @@ TEST(OptionParser, ListsOfNumbers) {
   EXPECT_NE(parser.Help().find("0.01,0.02"), std::string::npos) << parser.Help();
   ASSERT_TRUE(parser.Parse({"--tolerances", "0.005,1e-2,0.05"}));
   EXPECT_EQ(list, (std::vector<double>{0.005, 0.01, 0.05}));
+  ASSERT_TRUE(parser.Parse({"--tolerances", " 0.01 , 0.02,"}));  // as SplitList reads --workspace_paths
+  EXPECT_EQ(list, (std::vector<double>{0.01, 0.02}));
   ASSERT_TRUE(parser.Parse({"--tolerances=0.2"}));
   EXPECT_EQ(list, (std::vector<double>{0.2}));
-  for (const char* bad : {"", ",", "0.01,", ",0.01", "0.01,,0.02", "0.01;0.02", "0.01,x", "0.01,nan", "0.01 ,0.02"}) {
+  for (const char* bad : {"", ",", " , ", "0.01;0.02", "0.01,x", "0.01,nan", "0.01,2 3"}) {
     try {
       parser.Parse({"--tolerances", bad});
       ADD_FAILURE() << "no error for '" << bad << "'";

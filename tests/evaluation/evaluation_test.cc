@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -485,6 +486,20 @@ TEST(Evaluation, EvaluateScoresAtTheTolerancesGiven) {
   EXPECT_EQ(cloud[2]["relative_tolerance"], 0.05);
   EXPECT_NEAR(cloud[2]["tolerance"].get<double>(), 0.05 * median_depth, 1e-9);
   EXPECT_DOUBLE_EQ(cloud[2]["f1"].get<double>(), 1.0);  // the GT cloud itself
+
+  // The printed columns stay apart and aligned with names longer than "comp@1%".
+  EvaluationOptions options;
+  options.depth_tolerances = {0.005, 0.1};
+  const std::string table = FormatScoreTable(EvaluateWorkspace(dir.path(), dir / "gt", "none", options));
+  std::string header, pooled;
+  std::istringstream lines(table);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("image ", 0) == 0) header = line;
+    if (line.rfind("all pixels (pooled)", 0) == 0) pooled = line;
+  }
+  EXPECT_NE(header.find("  acc@0.5% comp@0.5%   F1@0.5%"), std::string::npos) << table;
+  EXPECT_NE(header.find(" comp@10%"), std::string::npos) << table;
+  EXPECT_EQ(header.size(), pooled.size()) << table;
 
   // A value out of range names the option.
   try {
