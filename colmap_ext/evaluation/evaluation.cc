@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <unordered_map>
 
 #include <nanoflann.hpp>
 
@@ -171,17 +172,25 @@ std::vector<float> NearestSquaredDistances(const std::vector<Eigen::Vector3f>& c
   return d2;
 }
 
-// Whether X projects onto a pixel with valid GT in the view.
-bool ProjectsOntoValidGt(const GtView& v, const Eigen::Vector3f& X) {
-  const double x = X.x(), y = X.y(), z = X.z();
-  const double zc = v.R[6] * x + v.R[7] * y + v.R[8] * z + v.t[2];
+// The depth of X in the view and the GT depth at its pixel, when X projects onto valid GT.
+bool GtDepthAtPoint(const GtView& v, const Eigen::Vector3d& X, double* z, double* z_gt) {
+  const double zc = v.R[6] * X.x() + v.R[7] * X.y() + v.R[8] * X.z() + v.t[2];
   if (!(zc > 0)) return false;
-  const double xc = v.R[0] * x + v.R[1] * y + v.R[2] * z + v.t[0];
-  const double yc = v.R[3] * x + v.R[4] * y + v.R[5] * z + v.t[1];
+  const double xc = v.R[0] * X.x() + v.R[1] * X.y() + v.R[2] * X.z() + v.t[0];
+  const double yc = v.R[3] * X.x() + v.R[4] * X.y() + v.R[5] * X.z() + v.t[1];
   const long col = std::lround(v.fx * xc / zc + v.cx);
   const long row = std::lround(v.fy * yc / zc + v.cy);
   if (col < 0 || row < 0 || col >= v.depth.width || row >= v.depth.height) return false;
-  return ValidDepth(v.depth.data[static_cast<size_t>(row) * v.depth.width + col]);
+  const float g = v.depth.data[static_cast<size_t>(row) * v.depth.width + col];
+  if (!ValidDepth(g)) return false;
+  *z = zc;
+  *z_gt = g;
+  return true;
+}
+
+bool ProjectsOntoValidGt(const GtView& v, const Eigen::Vector3f& X) {
+  double z, z_gt;
+  return GtDepthAtPoint(v, X.cast<double>(), &z, &z_gt);
 }
 
 std::string DepthMapPathOf(const std::string& workspace, const std::string& name,
@@ -401,6 +410,37 @@ DepthEvaluation EvaluateDepthMaps(const std::string& workspace_path, const std::
   return EvaluateDepthMapsOf(workspace_path, LoadGtViews(model, ResolveGtDir(gt_path)), options);
 }
 
+SparseGtAgreement CompareSparsePointsWithGt(const SparseModel& model, const std::vector<GtView>& gt) {
+  std::unordered_map<uint32_t, int> gt_of_image_id;  // tracks name images by id
+  for (size_t k = 0; k < gt.size(); ++k) {
+    if (gt[k].model_index >= 0 && static_cast<size_t>(gt[k].model_index) < model.images.size()) {
+      gt_of_image_id[model.images[gt[k].model_index].image_id] = static_cast<int>(k);
+    }
+  }
+  std::vector<float> signed_diff, abs_diff;
+  for (const SparsePoint3D& p : model.points) {
+    const Eigen::Vector3d X(p.xyz[0], p.xyz[1], p.xyz[2]);
+    for (const SparseTrackElement& el : p.track) {
+      const auto view = gt_of_image_id.find(el.image_id);
+      double z, z_gt;
+      if (view == gt_of_image_id.end() || !GtDepthAtPoint(gt[view->second], X, &z, &z_gt)) continue;
+      signed_diff.push_back(static_cast<float>((z - z_gt) / z_gt));
+      abs_diff.push_back(std::fabs(signed_diff.back()));
+    }
+  }
+  SparseGtAgreement a;
+  a.num_observations = static_cast<int64_t>(signed_diff.size());
+  if (!signed_diff.empty()) {
+    a.median_rel_difference = Median(&signed_diff);
+    a.median_abs_rel_difference = Median(&abs_diff);
+  }
+  return a;
+}
+
+bool GtDisagreesWithPoses(const SparseGtAgreement& agreement, double tolerance) {
+  return agreement.num_observations > 0 && std::fabs(agreement.median_rel_difference) >= 0.5 * tolerance;
+}
+
 std::vector<Eigen::Vector3f> BackProjectGtViews(const std::vector<GtView>& gt) {
   std::vector<Eigen::Vector3f> points;
   for (const GtView& v : gt) {
@@ -492,6 +532,7 @@ WorkspaceEvaluation EvaluateWorkspace(const std::string& workspace_path,
   const SparseModel model = ReadSparseModel(JoinPaths(workspace_path, "sparse"));
   const std::vector<GtView> gt = LoadGtViews(model, w.gt_dir);
   w.depth = EvaluateDepthMapsOf(workspace_path, gt, options);
+  w.sparse_vs_gt = CompareSparsePointsWithGt(model, gt);
   std::string cloud_path = fused_path;
   if (cloud_path.empty()) {
     const std::string default_path = JoinPaths(workspace_path, "fused.ply");

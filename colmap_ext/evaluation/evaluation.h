@@ -7,7 +7,8 @@
 //  * point cloud (ETH3D style): GT cloud = every valid GT pixel of every GT image
 //    back-projected; accuracy over fused points that project onto valid GT in at least
 //    one GT image, completeness over GT points, at fractions of the median GT depth (by
-//    default 0.5 % and 1 %).
+//    default 0.5 % and 1 %);
+//  * the GT against the model's poses: the sparse points' depths against the GT depth.
 // Also the mutual agreement of several workspaces' depth maps where no GT exists.
 #include <cstdint>
 #include <limits>
@@ -133,12 +134,28 @@ PointCloudEvaluation EvaluatePointCloud(const std::string& workspace_path,
                                         const std::string& fused_path,
                                         const EvaluationOptions& options);
 
+// ---- the GT against the model's poses
+// The model's sparse points at the GT views that observe them (their tracks): each point's
+// depth in the view against the GT depth at its pixel. Real GT (a depth sensor registered to
+// the images) can disagree with the poses; scores at tolerances near that disagreement judge
+// the GT as much as the depth maps.
+struct SparseGtAgreement {
+  int64_t num_observations = 0;  // observations that land on valid GT
+  double median_rel_difference = std::numeric_limits<double>::quiet_NaN();      // (z - z_gt) / z_gt
+  double median_abs_rel_difference = std::numeric_limits<double>::quiet_NaN();  // |z - z_gt| / z_gt
+};
+
+SparseGtAgreement CompareSparsePointsWithGt(const SparseModel& model, const std::vector<GtView>& gt);
+// Whether the median difference reaches half of the tolerance (then say so beside scores at it).
+bool GtDisagreesWithPoses(const SparseGtAgreement& agreement, double tolerance);
+
 // ---- both, for one workspace
 struct WorkspaceEvaluation {
   std::string label;  // column title in comparisons (defaults to the workspace path)
   std::string workspace_path;
   std::string gt_dir;
   DepthEvaluation depth;
+  SparseGtAgreement sparse_vs_gt;
   bool has_cloud = false;
   PointCloudEvaluation cloud;
 };

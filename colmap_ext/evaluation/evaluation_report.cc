@@ -40,6 +40,23 @@ std::string Shorten(const std::string& s, size_t width) {
   return s.size() <= width ? s : "..." + s.substr(s.size() - (width - 3));
 }
 
+// "+5.54 %" (signed, two decimals).
+std::string SignedPercent(double share) { return Fmt("%+.2f %%", 100.0 * share); }
+
+// The line under the depth tables on the GT against the poses (CompareSparsePointsWithGt),
+// with the warning where it disagrees by half the first tolerance or more; "" without data.
+std::string SparseGtLines(const SparseGtAgreement& a, const std::vector<double>& tolerances) {
+  if (a.num_observations == 0) return "";
+  std::string out = "Sparse points against the GT depth: " + std::to_string(a.num_observations) +
+                    " observations, median relative difference " + SignedPercent(a.median_rel_difference) +
+                    " (absolute " + Fmt("%.2f %%", 100.0 * a.median_abs_rel_difference) + ")\n";
+  if (!tolerances.empty() && GtDisagreesWithPoses(a, tolerances[0])) {
+    out += "warning: the GT depth and the model's poses disagree by at least half of the " + TolName(tolerances[0]) +
+           " tolerance: scores at " + TolName(tolerances[0]) + " judge the GT as much as the depth maps\n";
+  }
+  return out;
+}
+
 // Width of each of a tolerance's three columns: 8, wider where its name needs it ("comp@0.5%").
 size_t ScoreColumnWidth(double tolerance) {
   return std::max<size_t>(8, ("comp@" + TolName(tolerance)).size() + 1);
@@ -149,6 +166,8 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
     }
     out += "(percent of the surface's GT pixels; too near / too far: off by " + tol + " or more)\n";
   }
+  const std::string sparse_lines = SparseGtLines(e.sparse_vs_gt, d.tolerances);
+  if (!sparse_lines.empty()) out += "\n" + sparse_lines;
   if (e.has_cloud) {
     const PointCloudEvaluation& c = e.cloud;
     out += "\nPoint cloud " + c.fused_path + ": " + std::to_string(c.num_points) + " points (" +
@@ -200,6 +219,9 @@ std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals)
   row("median rel. depth error", [](const WorkspaceEvaluation& e) {
     return std::isfinite(e.depth.pooled.median_rel_error) ? Fmt("%.2f", 100 * e.depth.pooled.median_rel_error) : "-";
   });
+  row("sparse points vs GT (median)", [](const WorkspaceEvaluation& e) {
+    return e.sparse_vs_gt.num_observations ? Fmt("%+.2f", 100 * e.sparse_vs_gt.median_rel_difference) : "-";
+  });
   const bool any_cloud = std::any_of(evals.begin(), evals.end(), [](const WorkspaceEvaluation& e) { return e.has_cloud; });
   if (any_cloud) {
     const WorkspaceEvaluation* first = nullptr;
@@ -215,6 +237,14 @@ std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals)
     row("fused points", [](const WorkspaceEvaluation& e) { return e.has_cloud ? std::to_string(e.cloud.num_points) : "-"; });
   }
   if (!tols.empty()) {
+    // The model is usually shared: its line once, from the first workspace whose GT disagrees.
+    for (const WorkspaceEvaluation& e : evals) {
+      if (GtDisagreesWithPoses(e.sparse_vs_gt, tols[0])) {
+        const std::string lines = SparseGtLines(e.sparse_vs_gt, tols);
+        out += lines.substr(lines.find('\n') + 1);
+        break;
+      }
+    }
     out += "per image F1@" + TolName(tols[0]) + ":\n";
     for (size_t i = 0; i < evals[0].depth.images.size(); ++i) {
       const std::string& name = evals[0].depth.images[i].name;
@@ -282,6 +312,11 @@ std::string EvaluationJson(const std::vector<WorkspaceEvaluation>& evaluations,
     }
     Json w = {{"label", e.label}, {"workspace_path", e.workspace_path}, {"gt_dir", e.gt_dir},
               {"depth", std::move(depth)}};
+    if (e.sparse_vs_gt.num_observations > 0) {
+      w["sparse_points_vs_gt"] = {{"num_observations", e.sparse_vs_gt.num_observations},
+                                  {"median_relative_difference", e.sparse_vs_gt.median_rel_difference},
+                                  {"median_absolute_relative_difference", e.sparse_vs_gt.median_abs_rel_difference}};
+    }
     if (e.has_cloud) {
       const PointCloudEvaluation& c = e.cloud;
       Json tolerances = Json::array();

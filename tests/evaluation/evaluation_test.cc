@@ -14,6 +14,7 @@
 #include "colmap_ext/cli/commands.h"
 #include "colmap_ext/evaluation/evaluation.h"
 #include "colmap_ext/evaluation/evaluation_report.h"
+#include "colmap_ext/io/gt_files.h"
 #include "colmap_ext/io/image_io.h"
 #include "colmap_ext/io/mat_io.h"
 #include "colmap_ext/io/ply_io.h"
@@ -308,6 +309,45 @@ TEST(Evaluation, GtAgainstItselfIsPerfect) {
   const std::string json = EvaluationJson({e}, ReportContext{"test", "abc123"});
   EXPECT_NE(json.find("\"commit\": \"abc123\""), std::string::npos);
   EXPECT_NE(json.find("\"pooled_untextured\""), std::string::npos);
+}
+
+TEST(Evaluation, SparsePointsSayWhenTheGtDisagreesWithThePoses) {
+  test::TempDir dir;
+  const SyntheticScene scene = GenerateSyntheticScene(TinyScene(), dir.path());
+  InstallGtAsEstimates(dir.path(), scene);
+  EvaluationOptions options;
+  // Exact GT: the sparse points (0.5 px of noise) lie on it.
+  WorkspaceEvaluation e = EvaluateWorkspace(dir.path(), dir.path(), "none", options);
+  ASSERT_GT(e.sparse_vs_gt.num_observations, 100);
+  const double exact = e.sparse_vs_gt.median_rel_difference;
+  EXPECT_LT(std::fabs(exact), 0.004);
+  std::string table = FormatScoreTable(e);
+  EXPECT_NE(table.find("Sparse points against the GT depth: " + std::to_string(e.sparse_vs_gt.num_observations) +
+                      " observations"), std::string::npos) << table;
+  EXPECT_EQ(table.find("warning"), std::string::npos) << table;
+
+  // GT 6 % too far everywhere (a depth sensor at the wrong scale): the points lie 5.4 % in front.
+  for (const SyntheticView& v : scene.views) {
+    const std::string path = GtDepthPath(dir / "gt", v.name);
+    PfmImage depth = ReadPfm(path);
+    for (float& z : depth.data) z *= 1.06f;
+    WritePfm(path, depth);
+  }
+  e = EvaluateWorkspace(dir.path(), dir.path(), "none", options);
+  EXPECT_NEAR(e.sparse_vs_gt.median_rel_difference, (1 + exact) / 1.06 - 1, 0.001);
+  EXPECT_NEAR(e.sparse_vs_gt.median_abs_rel_difference, 1 - (1 + exact) / 1.06, 0.001);
+  table = FormatScoreTable(e);
+  EXPECT_NE(table.find("median relative difference -5."), std::string::npos) << table;
+  EXPECT_NE(table.find("warning: the GT depth and the model's poses disagree by at least half of the 1% tolerance"),
+            std::string::npos) << table;
+  EXPECT_NE(FormatComparisonTable({e, e}).find("warning: the GT depth"), std::string::npos);
+  const nlohmann::json json = nlohmann::json::parse(EvaluationJson({e}, ReportContext{"test", "abc"}));
+  EXPECT_NEAR(json["workspaces"][0]["sparse_points_vs_gt"]["median_relative_difference"].get<double>(),
+              e.sparse_vs_gt.median_rel_difference, 1e-12);
+  // At a tolerance of 20 % a 5.4 % disagreement is no reason to doubt the scores.
+  options.depth_tolerances = {0.2};
+  EXPECT_EQ(FormatScoreTable(EvaluateWorkspace(dir.path(), dir.path(), "none", options)).find("warning"),
+            std::string::npos);
 }
 
 TEST(Evaluation, DepthMapsWrongByKnownFractionEndToEnd) {
