@@ -417,7 +417,7 @@ SparseGtAgreement CompareSparsePointsWithGt(const SparseModel& model, const std:
       gt_of_image_id[model.images[gt[k].model_index].image_id] = static_cast<int>(k);
     }
   }
-  std::vector<float> signed_diff, abs_diff;
+  std::vector<float> signed_diff;
   for (const SparsePoint3D& p : model.points) {
     const Eigen::Vector3d X(p.xyz[0], p.xyz[1], p.xyz[2]);
     for (const SparseTrackElement& el : p.track) {
@@ -425,12 +425,13 @@ SparseGtAgreement CompareSparsePointsWithGt(const SparseModel& model, const std:
       double z, z_gt;
       if (view == gt_of_image_id.end() || !GtDepthAtPoint(gt[view->second], X, &z, &z_gt)) continue;
       signed_diff.push_back(static_cast<float>((z - z_gt) / z_gt));
-      abs_diff.push_back(std::fabs(signed_diff.back()));
     }
   }
   SparseGtAgreement a;
   a.num_observations = static_cast<int64_t>(signed_diff.size());
   if (!signed_diff.empty()) {
+    std::vector<float> abs_diff(signed_diff.size());
+    for (size_t i = 0; i < signed_diff.size(); ++i) abs_diff[i] = std::fabs(signed_diff[i]);
     a.median_rel_difference = Median(&signed_diff);
     a.median_abs_rel_difference = Median(&abs_diff);
   }

@@ -43,18 +43,20 @@ std::string Shorten(const std::string& s, size_t width) {
 // "+5.54 %" (signed, two decimals).
 std::string SignedPercent(double share) { return Fmt("%+.2f %%", 100.0 * share); }
 
-// The line under the depth tables on the GT against the poses (CompareSparsePointsWithGt),
-// with the warning where it disagrees by half the first tolerance or more; "" without data.
-std::string SparseGtLines(const SparseGtAgreement& a, const std::vector<double>& tolerances) {
+// The line under the depth tables on the GT against the poses (CompareSparsePointsWithGt);
+// "" without observations.
+std::string SparseGtLine(const SparseGtAgreement& a) {
   if (a.num_observations == 0) return "";
-  std::string out = "Sparse points against the GT depth: " + std::to_string(a.num_observations) +
-                    " observations, median relative difference " + SignedPercent(a.median_rel_difference) +
-                    " (absolute " + Fmt("%.2f %%", 100.0 * a.median_abs_rel_difference) + ")\n";
-  if (!tolerances.empty() && GtDisagreesWithPoses(a, tolerances[0])) {
-    out += "warning: the GT depth and the model's poses disagree by at least half of the " + TolName(tolerances[0]) +
-           " tolerance: scores at " + TolName(tolerances[0]) + " judge the GT as much as the depth maps\n";
-  }
-  return out;
+  return "Sparse points against the GT depth: " + std::to_string(a.num_observations) +
+         " observations, median relative difference " + SignedPercent(a.median_rel_difference) + " (absolute " +
+         Fmt("%.2f %%", 100.0 * a.median_abs_rel_difference) + ")\n";
+}
+
+// The warning beside it where the GT disagrees with the poses by half the tolerance or more; "" otherwise.
+std::string SparseGtWarning(const SparseGtAgreement& a, double tolerance) {
+  if (!GtDisagreesWithPoses(a, tolerance)) return "";
+  return "warning: the GT depth and the model's poses disagree by at least half of the " + TolName(tolerance) +
+         " tolerance: scores at " + TolName(tolerance) + " judge the GT as much as the depth maps\n";
 }
 
 // Width of each of a tolerance's three columns: 8, wider where its name needs it ("comp@0.5%").
@@ -166,8 +168,10 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
     }
     out += "(percent of the surface's GT pixels; too near / too far: off by " + tol + " or more)\n";
   }
-  const std::string sparse_lines = SparseGtLines(e.sparse_vs_gt, d.tolerances);
-  if (!sparse_lines.empty()) out += "\n" + sparse_lines;
+  if (e.sparse_vs_gt.num_observations > 0) {
+    out += "\n" + SparseGtLine(e.sparse_vs_gt);
+    if (!d.tolerances.empty()) out += SparseGtWarning(e.sparse_vs_gt, d.tolerances[0]);
+  }
   if (e.has_cloud) {
     const PointCloudEvaluation& c = e.cloud;
     out += "\nPoint cloud " + c.fused_path + ": " + std::to_string(c.num_points) + " points (" +
@@ -239,9 +243,9 @@ std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals)
   if (!tols.empty()) {
     // The model is usually shared: its line once, from the first workspace whose GT disagrees.
     for (const WorkspaceEvaluation& e : evals) {
-      if (GtDisagreesWithPoses(e.sparse_vs_gt, tols[0])) {
-        const std::string lines = SparseGtLines(e.sparse_vs_gt, tols);
-        out += lines.substr(lines.find('\n') + 1);
+      const std::string warning = SparseGtWarning(e.sparse_vs_gt, tols[0]);
+      if (!warning.empty()) {
+        out += warning;
         break;
       }
     }

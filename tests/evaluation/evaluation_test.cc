@@ -340,10 +340,37 @@ TEST(Evaluation, SparsePointsSayWhenTheGtDisagreesWithThePoses) {
   EXPECT_NE(table.find("median relative difference -5."), std::string::npos) << table;
   EXPECT_NE(table.find("warning: the GT depth and the model's poses disagree by at least half of the 1% tolerance"),
             std::string::npos) << table;
-  EXPECT_NE(FormatComparisonTable({e, e}).find("warning: the GT depth"), std::string::npos);
+  // compare: the signed median per workspace, the warning once, no per-workspace line.
+  const std::string comparison = FormatComparisonTable({e, e});
+  const size_t warning = comparison.find("warning: the GT depth");
+  ASSERT_NE(warning, std::string::npos) << comparison;
+  EXPECT_EQ(comparison.find("warning", warning + 1), std::string::npos) << comparison;
+  EXPECT_EQ(comparison.find("Sparse points against"), std::string::npos) << comparison;
+  EXPECT_NE(comparison.find("sparse points vs GT (median)"), std::string::npos) << comparison;
+  EXPECT_NE(comparison.find("-5."), std::string::npos) << comparison;
   const nlohmann::json json = nlohmann::json::parse(EvaluationJson({e}, ReportContext{"test", "abc"}));
   EXPECT_NEAR(json["workspaces"][0]["sparse_points_vs_gt"]["median_relative_difference"].get<double>(),
               e.sparse_vs_gt.median_rel_difference, 1e-12);
+  // Tracks name images by id, which need not be 1..N.
+  SparseModel model = ReadSparseModel(dir / "sparse");
+  const std::vector<GtView> gt = LoadGtViews(model, dir / "gt");
+  for (SparseImage& image : model.images) image.image_id += 100;
+  for (SparsePoint3D& point : model.points) {
+    for (SparseTrackElement& element : point.track) element.image_id += 100;
+  }
+  const SparseGtAgreement renumbered = CompareSparsePointsWithGt(model, gt);
+  EXPECT_EQ(renumbered.num_observations, e.sparse_vs_gt.num_observations);
+  EXPECT_DOUBLE_EQ(renumbered.median_rel_difference, e.sparse_vs_gt.median_rel_difference);
+  // The warning's threshold: half of the tolerance.
+  SparseGtAgreement half;
+  half.num_observations = 1;
+  half.median_rel_difference = -0.005;
+  EXPECT_TRUE(GtDisagreesWithPoses(half, 0.01));
+  half.median_rel_difference = 0.0049;
+  EXPECT_FALSE(GtDisagreesWithPoses(half, 0.01));
+  half.num_observations = 0;
+  half.median_rel_difference = 0.5;
+  EXPECT_FALSE(GtDisagreesWithPoses(half, 0.01));
   // At a tolerance of 20 % a 5.4 % disagreement is no reason to doubt the scores.
   options.depth_tolerances = {0.2};
   EXPECT_EQ(FormatScoreTable(EvaluateWorkspace(dir.path(), dir.path(), "none", options)).find("warning"),
