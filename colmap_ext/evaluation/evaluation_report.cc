@@ -241,7 +241,7 @@ std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals)
     row("fused points", [](const WorkspaceEvaluation& e) { return e.has_cloud ? std::to_string(e.cloud.num_points) : "-"; });
   }
   if (!tols.empty()) {
-    // The model is usually shared: its line once, from the first workspace whose GT disagrees.
+    // The workspaces usually share one model and GT: the warning once, from the first that disagrees.
     for (const WorkspaceEvaluation& e : evals) {
       const std::string warning = SparseGtWarning(e.sparse_vs_gt, tols[0]);
       if (!warning.empty()) {
