@@ -40,15 +40,15 @@ std::string Shorten(const std::string& s, size_t width) {
   return s.size() <= width ? s : "..." + s.substr(s.size() - (width - 3));
 }
 
-// "+5.54 %" (signed, two decimals).
-std::string SignedPercent(double share) { return Fmt("%+.2f %%", 100.0 * share); }
+// "+5.54" (a share in percent, signed, two decimals).
+std::string SignedPercent(double share) { return Fmt("%+.2f", 100.0 * share); }
 
 // The line under the depth tables on the GT against the poses (CompareSparsePointsWithGt);
 // "" without observations.
 std::string SparseGtLine(const SparseGtAgreement& a) {
   if (a.num_observations == 0) return "";
   return "Sparse points against the GT depth: " + std::to_string(a.num_observations) +
-         " observations, median relative difference " + SignedPercent(a.median_rel_difference) + " (absolute " +
+         " observations, median relative difference " + SignedPercent(a.median_rel_difference) + " % (absolute " +
          Fmt("%.2f %%", 100.0 * a.median_abs_rel_difference) + ")\n";
 }
 
@@ -168,8 +168,9 @@ std::string FormatScoreTable(const WorkspaceEvaluation& e) {
     }
     out += "(percent of the surface's GT pixels; too near / too far: off by " + tol + " or more)\n";
   }
-  if (e.sparse_vs_gt.num_observations > 0) {
-    out += "\n" + SparseGtLine(e.sparse_vs_gt);
+  const std::string sparse_line = SparseGtLine(e.sparse_vs_gt);
+  if (!sparse_line.empty()) {
+    out += "\n" + sparse_line;
     if (!d.tolerances.empty()) out += SparseGtWarning(e.sparse_vs_gt, d.tolerances[0]);
   }
   if (e.has_cloud) {
@@ -224,7 +225,7 @@ std::string FormatComparisonTable(const std::vector<WorkspaceEvaluation>& evals)
     return std::isfinite(e.depth.pooled.median_rel_error) ? Fmt("%.2f", 100 * e.depth.pooled.median_rel_error) : "-";
   });
   row("sparse points vs GT (median)", [](const WorkspaceEvaluation& e) {
-    return e.sparse_vs_gt.num_observations ? Fmt("%+.2f", 100 * e.sparse_vs_gt.median_rel_difference) : "-";
+    return e.sparse_vs_gt.num_observations ? SignedPercent(e.sparse_vs_gt.median_rel_difference) : "-";
   });
   const bool any_cloud = std::any_of(evals.begin(), evals.end(), [](const WorkspaceEvaluation& e) { return e.has_cloud; });
   if (any_cloud) {
