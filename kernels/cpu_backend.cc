@@ -243,15 +243,35 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
   });
 }
 
-size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
-                                      int num_threads, PatchMatchResult* result) {
+std::vector<float> ConfirmingDifferencesCpu(const PatchMatchProblem& problem, int min_views, int num_threads,
+                                            const PatchMatchResult& result) {
   const std::vector<SourceView> sources = MakeSourceViews(problem);
   PatchMatchSchedule schedule;
   schedule.geometric = true;
   const PassParams params = MakePassParams(problem, schedule, sources.data());
-  return InvalidateRejectedPixels(num_threads, result, [&](const PixelState& state, int u, int v) {
-    return PixelDepthConfirmed(params, state, u, v, min_views, max_relative_error);
+  PixelState state;
+  state.plane = const_cast<float*>(result.plane.data());  // read only
+  state.photo_cost = const_cast<float*>(result.photo_cost.data());
+  const int W = result.width;
+  std::vector<float> differences(static_cast<size_t>(W) * result.height);
+  ParallelRows(result.height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
+    for (int u = 0; u < W; ++u) {
+      differences[static_cast<size_t>(v) * W + u] = PixelConfirmingDifference(params, state, u, v, min_views);
+    }
   });
+  return differences;
+}
+
+size_t InvalidateUnconfirmedDepths(const std::vector<float>& confirming_differences, float max_relative_error,
+                                   PatchMatchResult* result) {
+  size_t removed = 0;
+  for (size_t i = 0; i < confirming_differences.size(); ++i) {
+    if (result->photo_cost[i] < kInvalidCost && !(confirming_differences[i] < max_relative_error)) {
+      result->photo_cost[i] = kInvalidCost;
+      ++removed;
+    }
+  }
+  return removed;
 }
 
 void MarkConfirmingViewsCpu(const PatchMatchProblem& problem, float max_relative_error, int num_threads,

@@ -48,16 +48,22 @@ MPMVS_HD inline bool PixelPassesFilter(const PassParams& params, const FilterPar
   return consistent >= MinI(filter.min_num_consistent, params.num_sources);
 }
 
-// Whether a source's depth map confirms the point X_ref (reference frame): seen from the
-// source, it lies within max_relative_error of the depth the source holds at the nearest
-// pixel (the depth test of COLMAP's stereo_fusion). A source that is occluded there, has no
-// depth there or does not see the point does not confirm it.
-MPMVS_HD inline bool SourceConfirmsDepth(const SourceView& src, Vec3 X_ref, float max_relative_error) {
-  if (!src.depth) return false;
+// How far a source's depth map is from the point X_ref (reference frame), relative to the
+// point's depth seen from the source: |source depth at the nearest pixel - point depth| /
+// point depth (the depth test of COLMAP's stereo_fusion). kNoDepthDifference where the source
+// is occluded there, has no depth there or does not see the point.
+constexpr float kNoDepthDifference = 3.0e38f;
+MPMVS_HD inline float SourceDepthDifference(const SourceView& src, Vec3 X_ref) {
+  if (!src.depth) return kNoDepthDifference;
   Vec3 X;
   float us, vs;
   const float d = SourceDepthAtPoint(src, X_ref, &X, &us, &vs);
-  return d > 0.f && fabsf(d - X.z) < max_relative_error * X.z;
+  return d > 0.f ? fabsf(d - X.z) / X.z : kNoDepthDifference;
+}
+
+// Whether a source's depth map confirms the point: within max_relative_error of it.
+MPMVS_HD inline bool SourceConfirmsDepth(const SourceView& src, Vec3 X_ref, float max_relative_error) {
+  return SourceDepthDifference(src, X_ref) < max_relative_error;
 }
 
 // The pixel's point (depth * ray) when it has a valid depth in range, else false.
@@ -70,16 +76,24 @@ MPMVS_HD inline bool PixelPoint(const PassParams& params, const PixelState& stat
   return true;
 }
 
-// Whether at least min_views sources' depth maps confirm the pixel's depth.
-MPMVS_HD inline bool PixelDepthConfirmed(const PassParams& params, const PixelState& state, int u, int v,
-                                         int min_views, float max_relative_error) {
+// The difference within which min_views (1 to kMaxSourceViews) sources confirm the pixel's depth:
+// the min_views-th smallest SourceDepthDifference over its sources; kNoDepthDifference
+// without a valid depth or with fewer sources that hold a depth there.
+MPMVS_HD inline float PixelConfirmingDifference(const PassParams& params, const PixelState& state, int u, int v,
+                                                int min_views) {
   Vec3 X;
-  if (!PixelPoint(params, state, u, v, &X)) return false;
-  int confirmed = 0;
-  for (int s = 0; s < params.num_sources && confirmed < min_views; ++s) {
-    if (SourceConfirmsDepth(params.sources[s], X, max_relative_error)) ++confirmed;
+  if (!PixelPoint(params, state, u, v, &X) || min_views > params.num_sources) return kNoDepthDifference;
+  if (min_views < 1) return 0.f;
+  float smallest[kMaxSourceViews];  // ascending, the min_views smallest so far
+  int held = 0;
+  for (int s = 0; s < params.num_sources; ++s) {
+    const float d = SourceDepthDifference(params.sources[s], X);
+    if (held == min_views && !(d < smallest[held - 1])) continue;
+    int i = held < min_views ? held++ : held - 1;
+    for (; i > 0 && smallest[i - 1] > d; --i) smallest[i] = smallest[i - 1];
+    smallest[i] = d;
   }
-  return confirmed >= min_views;
+  return smallest[min_views - 1];
 }
 
 // Bit s set for each source s whose depth map confirms the pixel's depth (as above); 0

@@ -156,10 +156,15 @@ void RunPatchMatchCuda(const PatchMatchProblem& problem, const PatchMatchSchedul
 size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const FilterParams& filter,
                        int num_threads, PatchMatchResult* result);
 
-// Invalidates (photometric cost 2) the pixels whose depth fewer than min_views sources'
-// depth maps confirm within max_relative_error (PixelDepthConfirmed); returns how many.
-size_t InvalidateUnconfirmedDepthsCpu(const PatchMatchProblem& problem, int min_views, float max_relative_error,
-                                      int num_threads, PatchMatchResult* result);
+// Per pixel, the relative difference within which min_views sources' depth maps confirm its
+// depth (PixelConfirmingDifference; kNoDepthDifference where none can): W*H entries, all cores.
+std::vector<float> ConfirmingDifferencesCpu(const PatchMatchProblem& problem, int min_views, int num_threads,
+                                            const PatchMatchResult& result);
+
+// Invalidates (photometric cost 2) the valid pixels whose confirming difference (above) is
+// not under max_relative_error; returns how many.
+size_t InvalidateUnconfirmedDepths(const std::vector<float>& confirming_differences, float max_relative_error,
+                                   PatchMatchResult* result);
 
 // Sets result->view_mask, per pixel, to the sources (bit s: problem.sources[s]) whose depth
 // maps confirm its depth within max_relative_error (PixelConfirmingViews); 0 without one.

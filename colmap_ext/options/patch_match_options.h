@@ -125,8 +125,8 @@ namespace mpmvs {
     "relative depth perturbation of the refinement's random planes")                                                   \
   X(int, depth_check_views, 1, 1, 0, OptionRange::Closed(0, 32), kResult,                                              \
     "source views whose final depth maps must confirm a written depth within 1 %, more where the sparse points' "     \
-    "reprojection error says the poses are less exact (and depth segments under 100 px go); 0 = no depth_check "     \
-    "stage (paper)")                                                                                                   \
+    "reprojection error says the poses are less exact or the sources' maps hold the image's depths only roughly "    \
+    "(and depth segments under 100 px go); 0 = no depth_check stage (paper)")                                        \
   X(double, chroma_weight, 8, 8, 0, OptionRange::Closed(0, 1000), kResult,                                             \
     "bilateral NCC weights: grey difference + this x the reference's smoothed colour difference; 0 = grey only "       \
     "(paper)")                                                                                                         \

@@ -15,16 +15,18 @@ constexpr float kDepthSegmentMaxRelativeStep = kDepthCheckBaseTolerance;
 constexpr int kDepthCheckMinSegmentPixels = 100;
 
 struct DepthCheckCounts {
-  size_t unconfirmed = 0;  // fewer than min_views sources confirm the depth
-  size_t speckles = 0;     // in a depth segment under kDepthCheckMinSegmentPixels
+  ImageAgreement agreement;  // the tolerance the check used, and why
+  size_t unconfirmed = 0;    // fewer than min_views sources confirm the depth
+  size_t speckles = 0;       // in a depth segment under kDepthCheckMinSegmentPixels
 };
 
 // Invalidates, in order, the pixels whose geometric term is saturated (which the written map
 // leaves out anyway, so they split no segment), those that fewer than min_views sources'
-// results confirm within tolerance (relative to depth), and those in small depth segments.
-// problem's sources carry their results of the same pass as *result.
+// results confirm within the image's tolerance (relative to depth: model_tolerance, widened
+// by ImageAgreementOf), and those in small depth segments. problem's sources carry their
+// results of the same pass as *result.
 DepthCheckCounts RunDepthCheck(const kernels::PatchMatchProblem& problem, float geom_error_clamp, int min_views,
-                               float tolerance, int num_threads, kernels::PatchMatchResult* result);
+                               float model_tolerance, int num_threads, kernels::PatchMatchResult* result);
 
 // The geometric consistency graph of the check's maps (write_consistency_graph): sets
 // result->view_mask to the sources whose results confirm each remaining pixel's depth within

@@ -365,13 +365,18 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
                                                        plan_.num_threads, &result);
         parallel_seconds_ += SecondsSince(check_start);
         const size_t pixels = std::max<size_t>(1, result.photo_cost.size());
-        LogDetail(name + ": depth check removed " + std::to_string(removed.unconfirmed) + " pixels (" +
+        char tolerance[120];
+        std::snprintf(tolerance, sizeof(tolerance),
+                      "at %.2f %% (its sources' maps hold its depths within a median %.3f %%)",
+                      100 * removed.agreement.tolerance, 100 * removed.agreement.median_difference);
+        LogDetail(name + ": depth check " + tolerance + " removed " + std::to_string(removed.unconfirmed) +
+                " pixels (" +
                 std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
         // The state keeps no view selection: the graph is made here, where the sources' results are.
         if (plan_.write_consistency_graph && ref->write_final) {
-          MarkConfirmingViews(ref->pm, p.depth_check_tolerance, plan_.num_threads, &result);
+          MarkConfirmingViews(ref->pm, removed.agreement.tolerance, plan_.num_threads, &result);
         }
       } else {
         // A long image reports its iterations now and then.

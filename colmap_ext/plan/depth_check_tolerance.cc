@@ -33,4 +33,20 @@ DepthCheckTolerance DepthCheckToleranceOf(const DenseWorkspace& workspace) {
   return tolerance;
 }
 
+ImageAgreement ImageAgreementOf(const std::vector<float>& confirming_differences, float model_tolerance) {
+  std::vector<float> agreeing;
+  for (float d : confirming_differences) {
+    if (d < kAgreementMaxDifference) agreeing.push_back(d);
+  }
+  ImageAgreement agreement;
+  agreement.tolerance = model_tolerance;
+  if (agreeing.empty()) return agreement;
+  const auto middle = agreeing.begin() + agreeing.size() / 2;
+  std::nth_element(agreeing.begin(), middle, agreeing.end());
+  agreement.median_difference = *middle;
+  agreement.tolerance = std::max(model_tolerance, std::min(kAgreementMaxDifference,
+                                                           kDepthCheckTolerancePerMedianDifference * *middle));
+  return agreement;
+}
+
 }  // namespace mpmvs

@@ -210,11 +210,16 @@ uint64_t StageStore::InputsHash(int view, bool depth_check) const {
   char range[64];
   std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
   std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
-  // Only the depth check's results depend on its tolerance, and only a widened one enters:
-  // the records of exactly posed models stay those of builds before the tolerance could widen.
-  if (depth_check && p.depth_check_tolerance != kDepthCheckBaseTolerance) {
-    std::snprintf(range, sizeof(range), "%.9g", p.depth_check_tolerance);
-    inputs += "depth check tolerance " + std::string(range) + "\n";
+  // Only the depth check's results depend on its tolerance, so only its records name it: a
+  // widened model tolerance, and that each image's tolerance follows its agreement with its
+  // sources (since 7 Dec 2026: the depth checks of earlier builds are made again, while the
+  // stages before them resume).
+  if (depth_check) {
+    inputs += "depth check tolerance per image\n";
+    if (p.depth_check_tolerance != kDepthCheckBaseTolerance) {
+      std::snprintf(range, sizeof(range), "%.9g", p.depth_check_tolerance);
+      inputs += "depth check tolerance " + std::string(range) + "\n";
+    }
   }
   for (int src : p.src) inputs += "source " + ViewIdentity(src);
   return HashText(inputs);

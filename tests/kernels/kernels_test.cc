@@ -531,10 +531,13 @@ TEST(KernelDepthCheck, KeepsTheDepthsThatEnoughSourcesConfirm) {
     return result;
   };
   auto kept = [&](const PatchMatchResult& r, int u, int v) { return r.photo_cost[v * W + u] < kInvalidCost; };
+  auto check = [&](int min_views, float tolerance, PatchMatchResult* r) {
+    return InvalidateUnconfirmedDepths(ConfirmingDifferencesCpu(problem, min_views, 2, *r), tolerance, r);
+  };
 
   // One confirming view: source 1 confirms every pixel it sees (the last 4 columns it does not).
   PatchMatchResult one = fronto_parallel();
-  const size_t removed_one = InvalidateUnconfirmedDepthsCpu(problem, 1, 0.01f, 2, &one);
+  const size_t removed_one = check(1, 0.01f, &one);
   for (int v = 0; v < H; ++v) {
     for (int u = 1; u < W - 5; ++u) EXPECT_TRUE(kept(one, u, v)) << u << "," << v;
     for (int u = W - 3; u < W; ++u) EXPECT_FALSE(kept(one, u, v)) << u << "," << v;
@@ -544,15 +547,48 @@ TEST(KernelDepthCheck, KeepsTheDepthsThatEnoughSourcesConfirm) {
 
   // Two: only where source 0's depth is right too.
   PatchMatchResult two = fronto_parallel();
-  InvalidateUnconfirmedDepthsCpu(problem, 2, 0.01f, 2, &two);
+  check(2, 0.01f, &two);
   for (int v = 0; v < H; ++v) {
     for (int u = 1; u < W / 2 - 4; ++u) EXPECT_TRUE(kept(two, u, v)) << u << "," << v;
     for (int u = W / 2; u < W; ++u) EXPECT_FALSE(kept(two, u, v)) << u << "," << v;
   }
+  // The difference within which the views confirm a depth: the second smallest for two.
+  const std::vector<float> first = ConfirmingDifferencesCpu(problem, 1, 2, fronto_parallel());
+  const std::vector<float> second = ConfirmingDifferencesCpu(problem, 2, 2, fronto_parallel());
+  EXPECT_NEAR(first[H / 2 * W + W / 2 + 4], 0.f, 1e-5f);
+  EXPECT_NEAR(second[H / 2 * W + W / 2 + 4], 0.1f, 1e-5f);
+  EXPECT_NEAR(second[H / 2 * W + 4], 0.f, 1e-5f);
+  EXPECT_EQ(second[0], kNoDepthDifference);  // no estimate
+  EXPECT_EQ(first[H / 2 * W + W - 1], kNoDepthDifference);  // neither source sees it
   // A wider tolerance accepts source 0's 10 % error.
   PatchMatchResult loose = fronto_parallel();
-  InvalidateUnconfirmedDepthsCpu(problem, 2, 0.15f, 2, &loose);
+  check(2, 0.15f, &loose);
   for (int u = 1; u < W - 5; ++u) EXPECT_TRUE(kept(loose, u, H / 2)) << u;
+}
+
+// The difference within which min_views sources confirm a depth is the min_views-th smallest
+// over all sources, in whatever order they come.
+TEST(KernelDepthCheck, ConfirmingDifferenceIsTheNthSmallestOverTheSources) {
+  const int W = 40, H = 30;
+  const std::vector<float> img = RandomImage(W, H, 7);
+  PatchMatchProblem problem =
+      ShiftedSourcesProblem(img, W, H, 50.f, {{0.2f, 0.f, 0.f}, {0.25f, 0.f, 0.f}, {0.3f, 0.f, 0.f}});
+  // The sources hold the plane at depth 4 10 %, 5 % and 0 % too far.
+  const std::vector<float> far10(static_cast<size_t>(W) * H, 4.4f), far5(far10.size(), 4.2f),
+      exact(far10.size(), 4.f);
+  problem.sources[0].depth_map = far10.data();
+  problem.sources[1].depth_map = far5.data();
+  problem.sources[2].depth_map = exact.data();
+  PatchMatchResult result;
+  result.width = W;
+  result.height = H;
+  for (int i = 0; i < W * H; ++i) result.plane.insert(result.plane.end(), {0.f, 0.f, -1.f, 4.f});
+  result.photo_cost.assign(static_cast<size_t>(W) * H, 0.1f);
+  const int centre = H / 2 * W + W / 2;
+  EXPECT_NEAR(ConfirmingDifferencesCpu(problem, 1, 2, result)[centre], 0.f, 1e-5f);
+  EXPECT_NEAR(ConfirmingDifferencesCpu(problem, 2, 2, result)[centre], 0.05f, 1e-5f);
+  EXPECT_NEAR(ConfirmingDifferencesCpu(problem, 3, 2, result)[centre], 0.1f, 1e-5f);
+  EXPECT_EQ(ConfirmingDifferencesCpu(problem, 4, 2, result)[centre], kNoDepthDifference);  // only 3 sources
 }
 
 // The depth check also drops depth segments under a size (kernels/DESIGN.md 23): a speckle

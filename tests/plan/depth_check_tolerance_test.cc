@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "colmap_ext/io/sparse_model.h"
@@ -100,6 +101,32 @@ TEST(DepthCheckTolerance, EveryReferenceProblemCarriesTheModelsTolerance) {
   const std::vector<float> wide = tolerances();
   ASSERT_EQ(wide.size(), 3u);
   for (float t : wide) EXPECT_NEAR(t, 0.03f, 1e-4f);
+}
+
+// An image's tolerance widens with the median difference within which its sources' maps hold
+// its depths; differences of other surfaces (over 5 %) and pixels without one do not count.
+TEST(DepthCheckTolerance, ImageToleranceFollowsTheMedianAgreement) {
+  auto agreement = [](std::vector<std::pair<int, float>> runs, float model_tolerance) {
+    std::vector<float> differences;
+    for (const auto& [count, difference] : runs) differences.insert(differences.end(), count, difference);
+    return ImageAgreementOf(differences, model_tolerance);
+  };
+  const float none = std::numeric_limits<float>::max();
+  // Sharp: 0.04 % is 0.6 % by the rule, so the model's 1 % stays.
+  const ImageAgreement sharp = agreement({{60, 0.0004f}, {30, 0.02f}, {10, none}}, kDepthCheckBaseTolerance);
+  EXPECT_FLOAT_EQ(sharp.median_difference, 0.0004f);
+  EXPECT_FLOAT_EQ(sharp.tolerance, kDepthCheckBaseTolerance);
+  // Rough: 0.2 % is 3 %, even where most pixels' differences are occlusions (over 5 %).
+  const ImageAgreement rough = agreement({{30, 0.002f}, {20, 0.001f}, {100, 0.2f}, {50, none}}, 0.01f);
+  EXPECT_FLOAT_EQ(rough.median_difference, 0.002f);
+  EXPECT_NEAR(rough.tolerance, 0.03f, 1e-6f);
+  // At most 5 %; a model tolerance above that stays.
+  EXPECT_FLOAT_EQ(agreement({{10, 0.01f}}, 0.01f).tolerance, kAgreementMaxDifference);
+  EXPECT_FLOAT_EQ(agreement({{10, 0.01f}}, 0.08f).tolerance, 0.08f);
+  // No pixel a source holds: the model's tolerance.
+  const ImageAgreement empty = agreement({{10, none}, {5, 0.3f}}, 0.012f);
+  EXPECT_FLOAT_EQ(empty.tolerance, 0.012f);
+  EXPECT_EQ(empty.median_difference, 0.f);
 }
 
 }  // namespace

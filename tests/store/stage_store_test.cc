@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "colmap_ext/io/workspace_io.h"
@@ -10,6 +11,7 @@
 #include "colmap_ext/prior/image_noise.h"
 #include "colmap_ext/store/result_fingerprint.h"
 #include "colmap_ext/store/stage_store.h"
+#include "colmap_ext/store/state_record.h"
 #include "colmap_ext/util/file_util.h"
 #include "kernels/patch_match.h"
 #include "tests/test_util.h"
@@ -96,6 +98,16 @@ TEST(StageStore, OnlyTheDepthChecksStateDependsOnItsTolerance) {
     store_with(kDepthCheckBaseTolerance)->WriteState(p.ref, stage, state);
   }
   EXPECT_TRUE(store_with(kDepthCheckBaseTolerance)->HasState(p.ref, "depth_check"));
+  // Even at 1 % the depth check's record names its inputs apart from the stage before it:
+  // each image's tolerance follows its agreement with its sources, so the depth checks of
+  // builds from before that (whose records named the same inputs as geometric3's) are made
+  // again.
+  StateRecord geometric, checked;
+  std::string why;
+  const auto store = store_with(kDepthCheckBaseTolerance);
+  ASSERT_TRUE(ReadStateRecord(store->StateRecordPath(p.ref, "geometric3"), &geometric, &why)) << why;
+  ASSERT_TRUE(ReadStateRecord(store->StateRecordPath(p.ref, "depth_check"), &checked, &why)) << why;
+  EXPECT_NE(checked.inputs, geometric.inputs);
   EXPECT_FALSE(store_with(0.02f)->HasState(p.ref, "depth_check"));
   EXPECT_TRUE(store_with(0.02f)->HasState(p.ref, "geometric3"));
   store_with(0.02f)->WriteState(p.ref, "depth_check", state);
