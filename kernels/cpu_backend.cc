@@ -205,18 +205,26 @@ void MedianFilterDepthsCpu(const Camera& camera, float depth_min, float depth_ma
 
 namespace {
 
+// per_pixel(state, u, v) of every pixel of the result (state points into it, read only), all
+// cores: W*H values.
+template <class T, class PerPixel>
+std::vector<T> MapPixels(int num_threads, const PatchMatchResult& result, const PerPixel& per_pixel) {
+  PixelState state;
+  state.plane = const_cast<float*>(result.plane.data());
+  state.photo_cost = const_cast<float*>(result.photo_cost.data());
+  const int W = result.width;
+  std::vector<T> values(static_cast<size_t>(W) * result.height);
+  ParallelRows(result.height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
+    for (int u = 0; u < W; ++u) values[static_cast<size_t>(v) * W + u] = per_pixel(state, u, v);
+  });
+  return values;
+}
+
 // Invalidates (photometric cost 2) each pixel with an estimate that keep(state, u, v) rejects,
 // all pixels decided before any changes; returns how many.
 template <class Keep>
 size_t InvalidateRejectedPixels(int num_threads, PatchMatchResult* result, const Keep& keep_pixel) {
-  PixelState state;
-  state.plane = result->plane.data();
-  state.photo_cost = result->photo_cost.data();
-  const int W = result->width, H = result->height;
-  std::vector<uint8_t> keep(static_cast<size_t>(W) * H, 0);
-  ParallelRows(H, ResolveThreads(num_threads), [&](int v, uint32_t*) {
-    for (int u = 0; u < W; ++u) keep[static_cast<size_t>(v) * W + u] = keep_pixel(state, u, v);
-  });
+  const std::vector<uint8_t> keep = MapPixels<uint8_t>(num_threads, *result, keep_pixel);
   size_t removed = 0;
   for (size_t i = 0; i < keep.size(); ++i) {
     if (!keep[i] && result->photo_cost[i] < kInvalidCost) {
@@ -225,6 +233,13 @@ size_t InvalidateRejectedPixels(int num_threads, PatchMatchResult* result, const
     }
   }
   return removed;
+}
+
+// Parameters of a geometric pass: what the depth check reads of the sources' depth maps.
+PassParams SourceDepthParams(const PatchMatchProblem& problem, const std::vector<SourceView>& sources) {
+  PatchMatchSchedule schedule;
+  schedule.geometric = true;
+  return MakePassParams(problem, schedule, sources.data());
 }
 
 }  // namespace
@@ -246,50 +261,26 @@ size_t FilterResultCpu(const PatchMatchProblem& problem, bool geometric, const F
 std::vector<float> ConfirmingDifferencesCpu(const PatchMatchProblem& problem, int min_views, int num_threads,
                                             const PatchMatchResult& result) {
   const std::vector<SourceView> sources = MakeSourceViews(problem);
-  PatchMatchSchedule schedule;
-  schedule.geometric = true;
-  const PassParams params = MakePassParams(problem, schedule, sources.data());
-  PixelState state;
-  state.plane = const_cast<float*>(result.plane.data());  // read only
-  state.photo_cost = const_cast<float*>(result.photo_cost.data());
-  const int W = result.width;
-  std::vector<float> differences(static_cast<size_t>(W) * result.height);
-  ParallelRows(result.height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
-    for (int u = 0; u < W; ++u) {
-      differences[static_cast<size_t>(v) * W + u] = PixelConfirmingDifference(params, state, u, v, min_views);
-    }
+  const PassParams params = SourceDepthParams(problem, sources);
+  return MapPixels<float>(num_threads, result, [&](const PixelState& state, int u, int v) {
+    return PixelConfirmingDifference(params, state, u, v, min_views);
   });
-  return differences;
 }
 
 size_t InvalidateUnconfirmedDepths(const std::vector<float>& confirming_differences, float max_relative_error,
                                    PatchMatchResult* result) {
-  size_t removed = 0;
-  for (size_t i = 0; i < confirming_differences.size(); ++i) {
-    if (result->photo_cost[i] < kInvalidCost && !(confirming_differences[i] < max_relative_error)) {
-      result->photo_cost[i] = kInvalidCost;
-      ++removed;
-    }
-  }
-  return removed;
+  const int W = result->width;
+  return InvalidateRejectedPixels(1, result, [&](const PixelState&, int u, int v) {
+    return confirming_differences[static_cast<size_t>(v) * W + u] < max_relative_error;
+  });
 }
 
 void MarkConfirmingViewsCpu(const PatchMatchProblem& problem, float max_relative_error, int num_threads,
                             PatchMatchResult* result) {
   const std::vector<SourceView> sources = MakeSourceViews(problem);
-  PatchMatchSchedule schedule;
-  schedule.geometric = true;
-  const PassParams params = MakePassParams(problem, schedule, sources.data());
-  PixelState state;
-  state.plane = result->plane.data();
-  state.photo_cost = result->photo_cost.data();
-  const int W = result->width;
-  std::vector<uint32_t>& views = result->view_mask;
-  views.assign(static_cast<size_t>(W) * result->height, 0u);
-  ParallelRows(result->height, ResolveThreads(num_threads), [&](int v, uint32_t*) {
-    for (int u = 0; u < W; ++u) {
-      views[static_cast<size_t>(v) * W + u] = PixelConfirmingViews(params, state, u, v, max_relative_error);
-    }
+  const PassParams params = SourceDepthParams(problem, sources);
+  result->view_mask = MapPixels<uint32_t>(num_threads, *result, [&](const PixelState& state, int u, int v) {
+    return PixelConfirmingViews(params, state, u, v, max_relative_error);
   });
 }
 

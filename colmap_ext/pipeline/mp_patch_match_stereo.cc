@@ -370,8 +370,8 @@ void Controller::RunReference(int stage_index, std::unique_ptr<StageReference> r
                       "at %.2f %% (its sources' maps hold its depths within a median %.3f %%)",
                       100 * removed.agreement.tolerance, 100 * removed.agreement.median_difference);
         LogDetail(name + ": depth check " + tolerance + " removed " + std::to_string(removed.unconfirmed) +
-                " pixels (" +
-                std::to_string(100 * removed.unconfirmed / pixels) + "%) that no source view's depth confirms and " +
+                " pixels (" + std::to_string(100 * removed.unconfirmed / pixels) +
+                "%) that no source view's depth confirms and " +
                 std::to_string(removed.speckles) + " (" + std::to_string(100 * removed.speckles / pixels) +
                 "%) in depth segments under " + std::to_string(kDepthCheckMinSegmentPixels) + " pixels");
         // The state keeps no view selection: the graph is made here, where the sources' results are.

@@ -30,6 +30,11 @@ struct DepthCheckTolerance {
 constexpr float kAgreementMaxDifference = 0.05f;
 constexpr float kDepthCheckTolerancePerMedianDifference = 15.f;
 
+// Revision of the check's rule, which its results' records name (StageStore::InputsHash): a
+// change bumps it, so that the depth checks of earlier builds are made again while the stages
+// before them resume. 1: each image's tolerance follows its agreement (7 Dec 2026).
+constexpr int kDepthCheckRevision = 1;
+
 struct ImageAgreement {
   float median_difference = 0;  // over the pixels with a difference under kAgreementMaxDifference
   float tolerance = 0;          // the check's tolerance for the image

@@ -210,12 +210,10 @@ uint64_t StageStore::InputsHash(int view, bool depth_check) const {
   char range[64];
   std::snprintf(range, sizeof(range), "%.9g %.9g", p.depth_min, p.depth_max);
   std::string inputs = "reference " + ViewIdentity(view) + "depth range " + range + "\n";
-  // Only the depth check's results depend on its tolerance, so only its records name it: a
-  // widened model tolerance, and that each image's tolerance follows its agreement with its
-  // sources (since 7 Dec 2026: the depth checks of earlier builds are made again, while the
-  // stages before them resume).
+  // Only the depth check's results depend on its rule and tolerance, so only its records name
+  // them: the rule's revision and a widened model tolerance.
   if (depth_check) {
-    inputs += "depth check tolerance per image\n";
+    inputs += "depth check revision " + std::to_string(kDepthCheckRevision) + "\n";
     if (p.depth_check_tolerance != kDepthCheckBaseTolerance) {
       std::snprintf(range, sizeof(range), "%.9g", p.depth_check_tolerance);
       inputs += "depth check tolerance " + std::string(range) + "\n";
