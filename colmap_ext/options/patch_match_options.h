@@ -110,6 +110,11 @@ namespace mpmvs {
     "each prior triangle takes the plane that the vertices around it vote for, among its neighbours' and its "         \
     "vertices' planes, or a dominant plane of the image up to 3 % behind it; 0 = its own plane through its three "     \
     "vertices (paper)")                                                                                                \
+  X(double, prior_corner_colour_match, 12, 12, 0, OptionRange::Closed(0, 255), kResult,                               \
+    "with the plane vote, a prior triangle whose corners' depths lie over 5 % apart (an object and the surface "      \
+    "behind): a pixel whose colour difference (grey levels + chroma_weight x colour, as the NCC weights) to a "       \
+    "corner in a plain patch on a dominant plane is under this takes that plane, unless a corner off it matches "      \
+    "within 4 more; 0 = the triangle's plane (paper)")                                                                 \
   X(bool, prior_source_vertices, true, true, false, OptionRange::Any(), kResult,                                       \
     "geometric prior: source views' vertices just outside the reference image join its triangulation; 0 = the "        \
     "reference's own vertices only (paper)")                                                                           \

@@ -19,6 +19,7 @@ PlanarPriorOptions MakePriorOptions(const MpMvsOptions& o) {
   po.max_geom_error = static_cast<float>(o.prior_max_geom_error);
   po.max_cost_photometric = static_cast<float>(o.prior_max_cost_acmp);
   po.plane_vote = o.prior_plane_vote;
+  po.corner_colour_match = static_cast<float>(o.prior_corner_colour_match);
   po.source_vertices = o.prior_source_vertices;
   po.max_vertex_bend = static_cast<float>(o.prior_vertex_bend);
   return po;

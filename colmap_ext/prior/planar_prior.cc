@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "colmap_ext/util/thread_range.h"
+#include "kernels/ncc.h"
 #include "kernels/patch_match_pixel.h"
 
 namespace mpmvs {
@@ -21,6 +23,9 @@ using Tds = CGAL::Triangulation_data_structure_2<VertexBase>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 
 using kernels::Vec3;
+
+// A vertex lies on a dominant plane within this share of its depth (kernels/DESIGN.md 31).
+constexpr float kOnDominantPlane = 0.005f;
 
 Vec3 VertexPoint(const kernels::Camera& camera, const PlanarPriorVertex& v) {
   return v.depth * kernels::PixelRay(camera, static_cast<float>(v.u), static_cast<float>(v.v));
@@ -200,7 +205,7 @@ bool OnPlane(float depth, const Vec3& ray, const Vec3& n, float d, float toleran
 std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                                            const std::vector<std::array<int, 3>>& faces, int num_threads) {
   constexpr int kMaxDominantPlanes = 6;
-  constexpr float kDominantShare = 0.05f, kOnPlane = 0.005f;
+  constexpr float kDominantShare = 0.05f;
   constexpr size_t kDominantCandidates = 800;
   const size_t nv = vertices.size();
   const std::vector<float> area = CornerAreas(vertices, faces);
@@ -240,7 +245,7 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
         const Vec3 ray = rays[i];
         const float depth = vertices[i].depth, w = weight[i];
         for (int c = begin; c < end; ++c) {
-          support[c] += OnPlane(depth, ray, Vec3{nx[c], ny[c], nz[c]}, d[c], kOnPlane) ? w : 0.f;
+          support[c] += OnPlane(depth, ray, Vec3{nx[c], ny[c], nz[c]}, d[c], kOnDominantPlane) ? w : 0.f;
         }
       }
     });
@@ -248,7 +253,7 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
     if (support[best] < kDominantShare * total) break;
     const kernels::Plane plane{Vec3{nx[best], ny[best], nz[best]}, d[best]};
     dominant.push_back(plane);
-    for (size_t i = 0; i < nv; ++i) taken[i] |= OnPlane(vertices[i].depth, rays[i], plane.n, plane.d, kOnPlane);
+    for (size_t i = 0; i < nv; ++i) taken[i] |= OnPlane(vertices[i].depth, rays[i], plane.n, plane.d, kOnDominantPlane);
   }
   return dominant;
 }
@@ -260,7 +265,7 @@ std::vector<kernels::Plane> DominantPlanes(const kernels::Camera& camera, const 
 void SnapToDominantPlanes(const kernels::Camera& camera, const std::vector<PlanarPriorVertex>& vertices,
                           const std::vector<std::array<int, 3>>& faces, const std::vector<kernels::Plane>& dominant,
                           std::vector<kernels::Plane>* planes) {
-  constexpr float kSnapInFront = 0.03f, kOnPlane = 0.005f, kMinCos = 0.985f;  // cos 10 degrees
+  constexpr float kSnapInFront = 0.03f, kMinCos = 0.985f;  // cos 10 degrees
   for (size_t f = 0; f < faces.size(); ++f) {
     const PlanarPriorVertex& a = vertices[faces[f][0]];
     const PlanarPriorVertex& b = vertices[faces[f][1]];
@@ -275,13 +280,100 @@ void SnapToDominantPlanes(const kernels::Camera& camera, const std::vector<Plana
       const float zd = kernels::PlaneDepth(d, ray);
       if (!(zd > 0.f) || kernels::Dot(plane.n, d.n) <= kMinCos) continue;
       const float behind = (zd - z) / zd;
-      if (behind >= -kOnPlane && behind <= kSnapInFront && zd > farthest) {
+      if (behind >= -kOnDominantPlane && behind <= kSnapInFront && zd > farthest) {
         farthest = zd;
         snap = &d;
       }
     }
     if (snap) plane = *snap;
   }
+}
+
+// A corner of a bridging triangle as a colour reference for the plain pixels around it
+// (BridgingCorners).
+struct CornerColour {
+  bool usable = false;  // inside the image, in a plain patch
+  int plane = -1;       // the dominant plane it lies on (index), -1: none
+  float grey = 0.f, chroma0 = 0.f, chroma1 = 0.f;
+};
+
+// The bilateral weights' colour difference (kernels/ncc.h), summed in its own order.
+float ColourDistance(const kernels::ImageView& guide, size_t i, const CornerColour& corner) {
+  const float c0 = guide.chroma ? guide.chroma[2 * i] - corner.chroma0 : 0.f;
+  const float c1 = guide.chroma ? guide.chroma[2 * i + 1] - corner.chroma1 : 0.f;
+  return std::fabs(guide.data[i] - corner.grey) + std::fabs(c0) + std::fabs(c1);
+}
+
+// The corners of a triangle whose corners' depths lie over kBridgingSpan apart (it joins an
+// object to the surface behind, kernels/DESIGN.md 31), or nothing for any other triangle. A
+// corner in a patch of 5 x 5 px whose grey varies by more than kPlainPatchRange sits on
+// texture or on an edge between surfaces, and its colour stands for none of them: not usable.
+bool BridgingCorners(const kernels::Camera& camera, const kernels::ImageView& guide,
+                     const std::array<const PlanarPriorVertex*, 3>& corners,
+                     const std::vector<kernels::Plane>& dominant, std::array<CornerColour, 3>* colours) {
+  constexpr float kBridgingSpan = 0.05f, kPlainPatchRange = 6.f;
+  constexpr int kPatchRadius = 2;
+  const float nearest = std::min({corners[0]->depth, corners[1]->depth, corners[2]->depth});
+  const float farthest = std::max({corners[0]->depth, corners[1]->depth, corners[2]->depth});
+  if (!(farthest > nearest * (1.f + kBridgingSpan))) return false;
+  const int W = guide.width, H = guide.height;
+  bool any = false;
+  for (int k = 0; k < 3; ++k) {
+    const PlanarPriorVertex& x = *corners[k];
+    CornerColour& colour = (*colours)[k];
+    colour = CornerColour{};
+    if (x.u < 0 || x.v < 0 || x.u >= W || x.v >= H) continue;
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+    for (int dv = -kPatchRadius; dv <= kPatchRadius; ++dv) {
+      for (int du = -kPatchRadius; du <= kPatchRadius; ++du) {
+        const size_t j = static_cast<size_t>(std::clamp(x.v + dv, 0, H - 1)) * W + std::clamp(x.u + du, 0, W - 1);
+        const float g = guide.data[j];
+        lo = std::min(lo, g);
+        hi = std::max(hi, g);
+      }
+    }
+    if (hi - lo > kPlainPatchRange) continue;
+    const size_t j = static_cast<size_t>(x.v) * W + x.u;
+    colour.usable = true;
+    colour.grey = guide.data[j];
+    if (guide.chroma) {
+      colour.chroma0 = guide.chroma[2 * j];
+      colour.chroma1 = guide.chroma[2 * j + 1];
+    }
+    const Vec3 ray = kernels::PixelRay(camera, float(x.u), float(x.v));
+    for (size_t p = 0; p < dominant.size() && colour.plane < 0; ++p) {
+      if (OnPlane(x.depth, ray, dominant[p].n, dominant[p].d, kOnDominantPlane)) colour.plane = static_cast<int>(p);
+    }
+    any |= colour.plane >= 0;
+  }
+  return any;
+}
+
+// The dominant plane (index) that pixel i of a bridging triangle takes: that of the usable
+// corner on a dominant plane nearest in colour, within max_distance, unless a usable corner
+// off that plane comes within kColourMargin of the same distance (two plain surfaces of like
+// colour meet there, as a floor and a wall); -1: the pixel keeps the triangle's plane.
+int ColourMatchedPlane(const kernels::ImageView& guide, size_t i, const std::array<CornerColour, 3>& corners,
+                       float max_distance) {
+  constexpr float kColourMargin = 4.f;
+  float distance[3];
+  float best = max_distance;
+  int match = -1;
+  for (int k = 0; k < 3; ++k) {
+    distance[k] = corners[k].usable ? ColourDistance(guide, i, corners[k]) : 0.f;
+    if (corners[k].usable && corners[k].plane >= 0 && distance[k] < best) {
+      best = distance[k];
+      match = k;
+    }
+  }
+  if (match < 0) return -1;
+  for (int k = 0; k < 3; ++k) {
+    if (k != match && corners[k].usable && corners[k].plane != corners[match].plane &&
+        distance[k] < best + kColourMargin) {
+      return -1;
+    }
+  }
+  return corners[match].plane;
 }
 
 // Appends the vertices of outside that lie outside the W x H image, within half its size of
@@ -415,7 +507,8 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
 
 PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vector<PlanarPriorVertex> vertices,
                                          float depth_min, float depth_max, const PlanarPriorOptions& options,
-                                         const std::vector<PlanarPriorVertex>* outside_vertices) {
+                                         const std::vector<PlanarPriorVertex>* outside_vertices,
+                                         const kernels::ImageView* guide) {
   const int W = camera.width, H = camera.height;
   PlanarPriorModel model;
   model.plane.assign(4 * static_cast<size_t>(W) * H, 0.f);
@@ -472,10 +565,14 @@ PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vec
   std::vector<kernels::Plane> chosen =
       options.plane_vote ? VotedPlanes(camera, model.vertices, faces, own, vote_only, options.num_threads,
                                                          &model.num_voted_triangles) : own;
+  std::vector<kernels::Plane> dominant;
   if (options.plane_vote) {
-    SnapToDominantPlanes(camera, model.vertices, faces,
-                         DominantPlanes(camera, model.vertices, faces, options.num_threads), &chosen);
+    dominant = DominantPlanes(camera, model.vertices, faces, options.num_threads);
+    SnapToDominantPlanes(camera, model.vertices, faces, dominant, &chosen);
   }
+  // A guide of another size than the camera's is no guide of this image.
+  const bool match_colours = options.plane_vote && options.corner_colour_match > 0.f && !dominant.empty() && guide &&
+                             guide->width == W && guide->height == H;
 
   for (size_t f = 0; f < faces.size(); ++f) {
     const std::array<int, 3>& idx = faces[f];
@@ -492,20 +589,25 @@ PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vec
     const int vmax = std::min(H - 1, std::max({a.v, b.v, c.v}));
     const float area = float(b.u - a.u) * (c.v - a.v) - float(b.v - a.v) * (c.u - a.u);
     if (area == 0.f) continue;
+    std::array<CornerColour, 3> corners;
+    const bool bridging = match_colours && BridgingCorners(camera, *guide, {&a, &b, &c}, dominant, &corners);
     for (int v = vmin; v <= vmax; ++v) {
       for (int u = umin; u <= umax; ++u) {
         const float w0 = (float(b.u - u) * (c.v - v) - float(b.v - v) * (c.u - u)) / area;
         const float w1 = (float(c.u - u) * (a.v - v) - float(c.v - v) * (a.u - u)) / area;
         const float w2 = 1.f - w0 - w1;
         if (w0 < -1e-6f || w1 < -1e-6f || w2 < -1e-6f) continue;
-        const float z_prior = kernels::PlaneDepth(plane, kernels::PixelRay(camera, float(u), float(v)));
-        if (!(z_prior >= depth_min && z_prior <= depth_max)) continue;
         const size_t i = static_cast<size_t>(v) * W + u;
+        // A pixel whose matched plane lies out of range there gets no prior, as any other.
+        const int matched = bridging ? ColourMatchedPlane(*guide, i, corners, options.corner_colour_match) : -1;
+        const kernels::Plane& pixel_plane = matched >= 0 ? dominant[matched] : plane;
+        const float z_prior = kernels::PlaneDepth(pixel_plane, kernels::PixelRay(camera, float(u), float(v)));
+        if (!(z_prior >= depth_min && z_prior <= depth_max)) continue;
         model.label[i] = 1;
-        model.plane[4 * i + 0] = plane.n.x;
-        model.plane[4 * i + 1] = plane.n.y;
-        model.plane[4 * i + 2] = plane.n.z;
-        model.plane[4 * i + 3] = plane.d;
+        model.plane[4 * i + 0] = pixel_plane.n.x;
+        model.plane[4 * i + 1] = pixel_plane.n.y;
+        model.plane[4 * i + 2] = pixel_plane.n.z;
+        model.plane[4 * i + 3] = pixel_plane.d;
       }
     }
   }

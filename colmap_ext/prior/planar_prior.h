@@ -7,6 +7,10 @@
 
 #include "kernels/camera.h"
 
+namespace mpmvs::kernels {
+struct ImageView;
+}  // namespace mpmvs::kernels
+
 namespace mpmvs {
 
 struct PlanarPriorOptions {
@@ -21,6 +25,14 @@ struct PlanarPriorOptions {
   // VotedPlanes), or a dominant plane of the image a little behind it (SnapToDominantPlanes),
   // instead of its own plane through its three vertices (false: the paper).
   bool plane_vote = true;
+  // With plane_vote and a guide image: in a triangle that bridges an object and the surface
+  // behind it (its corners' depths over 5 % apart), a pixel whose colour difference to a
+  // corner on a dominant plane of the image is under this takes that plane instead of the
+  // triangle's. The difference is the bilateral weights' (grey levels plus the guide's chroma,
+  // which chroma_weight scales); only corners in a plain patch count, and a corner off that
+  // plane matching within 4 more keeps the triangle's plane (BridgingCorners,
+  // ColourMatchedPlane; kernels/DESIGN.md 31). 0: off (the paper).
+  float corner_colour_match = 12.f;
   // Geometric selection: vertices of the source views that fall outside the reference image
   // join its triangulation (PlanarPriorFromVertices' outside_vertices), so that a surface whose
   // other edge the reference does not see is spanned from edge to edge.
@@ -70,7 +82,8 @@ struct PlanarPriorModel {
 // kernels::PlainWindow; bent depths, BentDepthMask). outside_vertices (optional): vertices
 // of other views in this camera (TransferPriorVertices); those outside the image, within
 // half its size of its border and inside [depth_min, depth_max], join the selected ones,
-// at most points_per_cell per cell. Every selected vertex is a triangle corner. The prior
+// at most points_per_cell per cell. Every selected vertex is a triangle corner; with no guide
+// image here, options.corner_colour_match does not act (PlanarPriorFromVertices). The prior
 // stage selects (SelectPriorVertices), marks and builds (PlanarPriorFromVertices) in steps;
 // this is the one-step form.
 PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vector<float>& depth,
@@ -86,9 +99,12 @@ PlanarPriorModel BuildPlanarPrior(const kernels::Camera& camera, const std::vect
 // a vertex with corner false is no triangle corner but votes on the planes of the triangles
 // around the triangle it falls in, weighing the square root of a third of its area; outside
 // every triangle it does nothing (kernels/DESIGN.md 29). Without the vote all are corners.
+// guide (optional): the reference image (grey, and chroma where present; the camera's size)
+// for options.corner_colour_match; without it every pixel takes its triangle's plane.
 PlanarPriorModel PlanarPriorFromVertices(const kernels::Camera& camera, std::vector<PlanarPriorVertex> vertices,
                                          float depth_min, float depth_max, const PlanarPriorOptions& options,
-                                         const std::vector<PlanarPriorVertex>* outside_vertices = nullptr);
+                                         const std::vector<PlanarPriorVertex>* outside_vertices = nullptr,
+                                         const kernels::ImageView* guide = nullptr);
 
 // Vertices of a source view seen from the reference camera: pixel (rounded) and depth in
 // the reference, normal rotated into its frame. Points behind the reference are dropped;

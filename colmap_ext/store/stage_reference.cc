@@ -142,7 +142,7 @@ void AddPlanarPrior(const StagePlan& stage, const RunPlan& plan, const DenseWork
   const bool use_sources = options.source_vertices && stage.prior_geometric_selection;
   if (use_sources) source_vertices = SourceViewVertices(input_stage, options, adaptive, store, *ref);
   ref->prior = PlanarPriorFromVertices(problem.ref_camera, std::move(vertices), p.depth_min, p.depth_max, options,
-                                       use_sources ? &source_vertices : nullptr);
+                                       use_sources ? &source_vertices : nullptr, &problem.ref_image);
   problem.prior_plane = ref->prior.plane.data();
   problem.prior_label = ref->prior.label.data();
   size_t labelled = 0;

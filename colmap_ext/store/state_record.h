@@ -35,7 +35,7 @@ uint64_t StateChecksum(const FloatMap& state);
 // Revision of the per-pixel math and the prior's construction: bumped whenever a change
 // alters the states, so that a rerun with a newer mp-mvs recomputes older states instead
 // of resuming from them.
-constexpr int kStateMathRevision = 8;
+constexpr int kStateMathRevision = 9;
 
 // kStateMathRevision and the --MPMVS options that change a stage's result (declared so:
 // ResultOptionsText). Image size, depth range and sources enter the inputs hash instead.

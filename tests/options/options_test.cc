@@ -32,7 +32,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
   MpMvsOptions earlier;
   earlier.half_resolution_scales = 0;  // the default before 5 Dec 2026
   EXPECT_EQ(StateOptionsText(earlier),
-      "math_revision 8\n"
+      "math_revision 9\n"
       "max_window_scale 2\n"
       "iterations_per_scale 3\n"
       "distant_sampling 1\n"
@@ -48,6 +48,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
       "prior_cell_size 5\n"
       "prior_points_per_cell 3\n"
       "prior_plane_vote 1\n"
+      "prior_corner_colour_match 12\n"
       "prior_source_vertices 1\n"
       "prior_vertex_bend 0.01\n"
       "prior_beta 8\n"
@@ -72,7 +73,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
   b.overwrite = true;  // options of the run do not enter it
   b.stage = "prior";
   EXPECT_EQ(StateOptionsText(b),
-      "math_revision 8\n"
+      "math_revision 9\n"
       "max_window_scale 2\n"
       "iterations_per_scale 3\n"
       "distant_sampling 0\n"
@@ -88,6 +89,7 @@ TEST(Options, FingerprintTextIsTheOneEarlierBuildsWrote) {
       "prior_cell_size 5\n"
       "prior_points_per_cell 3\n"
       "prior_plane_vote 1\n"
+      "prior_corner_colour_match 12\n"
       "prior_source_vertices 1\n"
       "prior_vertex_bend 0.125\n"
       "prior_beta 0.17999999999999999\n"
@@ -144,6 +146,7 @@ TEST(Options, PaperPresetRunsThePapersPipelineAndExplicitOptionsOverrideIt) {
   EXPECT_EQ(iterations, 16);
   EXPECT_EQ(paper.prior_beta, 0.18);
   EXPECT_FALSE(paper.prior_plane_vote);
+  EXPECT_EQ(paper.prior_corner_colour_match, 0);
   EXPECT_EQ(paper.chroma_weight, 0);
 
   // The default pipeline: seven stages, 21 iterations.

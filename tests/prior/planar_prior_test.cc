@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "colmap_ext/prior/planar_prior.h"
+#include "kernels/ncc.h"
 
 namespace mpmvs {
 namespace {
@@ -441,6 +442,52 @@ TEST(PlanarPrior, PlainStripBetweenObjectsInFrontOfAWallTakesTheWallPlane) {
   const PixelCount strip = PriorDepthsNear(model, cam, 46, 74, 6, H - 6, 4.f, 0.005f);
   ASSERT_GT(strip.labelled, 28 * (H - 12) * 9 / 10);
   EXPECT_GT(strip.near, 0.95 * strip.labelled);
+}
+
+// A plain wall (grey 150, fronto-parallel at depth 4, vertices 12 px apart on the left and
+// right) behind a pole (grey 60, columns 56..63, depth 2, dense vertices on both of its
+// edges): the triangles between the wall's last vertices and the pole bridge the two. Their
+// wall pixels take the wall's plane by colour; without the guide, or with the paper's
+// setting, they take the triangles' planes, sloping towards the pole.
+TEST(PlanarPrior, PlainWallPixelsOfTrianglesBridgingToAPoleTakeTheWallPlaneByColour) {
+  const int W = 120, H = 60;
+  const kernels::Camera cam = MakeCamera(W, H);
+  auto pole = [](int u) { return u >= 56 && u < 64; };
+  std::vector<float> grey(W * H);
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) grey[v * W + u] = pole(u) ? 60.f : 150.f;
+  }
+  const kernels::ImageView guide{grey.data(), W, H};
+  const kernels::Vec3 facing{0.f, 0.f, -1.f};
+  std::vector<PlanarPriorVertex> vertices;
+  for (int v = 3; v < H; v += 12) {
+    for (int u : {4, 16, 28, 92, 104, 116}) vertices.push_back({u, v, 4.f, facing});
+  }
+  for (int v = 1; v < H; v += 3) {
+    for (int u : {57, 62}) vertices.push_back({u, v, 2.f, facing});
+  }
+  PlanarPriorOptions options;
+  const PlanarPriorModel model = PlanarPriorFromVertices(cam, vertices, 1.f, 10.f, options, nullptr, &guide);
+  const PlanarPriorModel unguided = PlanarPriorFromVertices(cam, vertices, 1.f, 10.f, options);
+  options.corner_colour_match = 0.f;
+  const PlanarPriorModel paper = PlanarPriorFromVertices(cam, vertices, 1.f, 10.f, options, nullptr, &guide);
+  // The wall's pixels between its last vertices and the pole (u 30..54 and 65..90): the
+  // vote alone brings about half of them onto the wall.
+  for (const auto& [u0, u1] : {std::pair{30, 55}, std::pair{65, 91}}) {
+    const PixelCount wall = PriorDepthsNear(model, cam, u0, u1, 6, H - 6, 4.f, 0.005f);
+    ASSERT_GT(wall.labelled, (u1 - u0) * (H - 12) * 9 / 10);
+    EXPECT_GT(wall.near, 0.99 * wall.labelled);
+    EXPECT_LT(PriorDepthsNear(unguided, cam, u0, u1, 6, H - 6, 4.f, 0.005f).near, 0.6 * wall.labelled);
+    EXPECT_LT(PriorDepthsNear(paper, cam, u0, u1, 6, H - 6, 4.f, 0.005f).near, 0.6 * wall.labelled);
+  }
+  // The pole's pixels match no wall corner: they keep their triangles' planes.
+  for (int v = 0; v < H; ++v) {
+    for (int u = 56; u < 64; ++u) {
+      const size_t i = static_cast<size_t>(v) * W + u;
+      EXPECT_EQ(model.label[i], paper.label[i]);
+      for (int k = 0; k < 4; ++k) EXPECT_EQ(model.plane[4 * i + k], paper.plane[4 * i + k]) << u << " " << v;
+    }
+  }
 }
 
 // A source view's vertex lands where its 3-D point projects in the reference, with the
